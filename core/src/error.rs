@@ -1,0 +1,200 @@
+//! Typed errors: [`InputError`] for a scene or method a user got wrong (each names the
+//! offending field, so the API can point at it), [`StepFailure`] for one step that could
+//! not be taken, and [`RunError`] for a run that ended early, naming the step and time.
+
+use thiserror::Error;
+
+/// Something wrong with what a user asked for. [`InputError::field`] names the field.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum InputError {
+    /// No system has this id.
+    #[error("unknown system '{id}'; valid systems: {valid}")]
+    UnknownSystem {
+        /// What was asked for.
+        id: String,
+        /// The valid ids, comma-separated.
+        valid: String,
+    },
+    /// The system has no parameter of this name.
+    #[error("unknown parameter '{name}' for {owner}; valid parameters: {valid}")]
+    UnknownParam {
+        /// Field path of the parameter, e.g. `params.eps`.
+        field: String,
+        /// What was asked for.
+        name: String,
+        /// The system or method it was asked of.
+        owner: String,
+        /// The valid names, comma-separated (or "none").
+        valid: String,
+    },
+    /// A parameter lies outside its range.
+    #[error("{name} = {value} is out of range; allowed: {range}")]
+    ParamOutOfRange {
+        /// Field path, e.g. `params.epsilon` or `alpha`.
+        field: String,
+        /// The parameter's name.
+        name: String,
+        /// The value given.
+        value: f64,
+        /// The allowed range, written as an interval.
+        range: String,
+    },
+    /// No preset of the system has this id.
+    #[error("unknown preset '{id}' for {system}; valid presets: {valid}")]
+    UnknownPreset {
+        /// What was asked for.
+        id: String,
+        /// The system.
+        system: String,
+        /// The valid ids, comma-separated.
+        valid: String,
+    },
+    /// q or v has the wrong number of components.
+    #[error("{field} must have {expected} components (the system's dof), got {got}")]
+    WrongLength {
+        /// `q` or `v`.
+        field: String,
+        /// The system's dimension.
+        expected: usize,
+        /// What was given.
+        got: usize,
+    },
+    /// A number is NaN or infinite.
+    #[error("{field} must be a finite number, got {value}")]
+    NonFinite {
+        /// Field path, e.g. `q[2]`.
+        field: String,
+        /// The value given.
+        value: f64,
+    },
+    /// The initial velocity violates the constraints.
+    #[error(
+        "inconsistent initial velocity: |A(q) v| = {residual:.3e} exceeds 1e-9; v must satisfy the constraints A(q) v = 0"
+    )]
+    InconsistentVelocity {
+        /// The residual |A(q) v|.
+        residual: f64,
+    },
+    /// The step is zero or negative.
+    #[error("step must be positive, got {step}")]
+    NonPositiveStep {
+        /// The step given.
+        step: f64,
+    },
+    /// t_end is shorter than one step.
+    #[error("t_end = {t_end} must be at least one step ({step})")]
+    TEndTooShort {
+        /// The t_end given.
+        t_end: f64,
+        /// The step given.
+        step: f64,
+    },
+    /// No method has this id.
+    #[error("unknown method '{id}'; valid methods: {valid}")]
+    UnknownMethod {
+        /// Field path, e.g. `methods[1].id` at the API, `id` in core.
+        field: String,
+        /// What was asked for.
+        id: String,
+        /// The valid ids, comma-separated.
+        valid: String,
+    },
+    /// No integral has this name.
+    #[error("unknown integral '{name}'; valid integrals: {valid}")]
+    UnknownIntegral {
+        /// What was asked for.
+        name: String,
+        /// The valid names, comma-separated.
+        valid: String,
+    },
+    /// The system does not have this integral.
+    #[error("{system} has no integral '{integral}'; it has: {available}")]
+    IntegralUnavailable {
+        /// The integral asked for.
+        integral: String,
+        /// The system.
+        system: String,
+        /// What the system has, comma-separated.
+        available: String,
+    },
+    /// The latitude is undefined for this initial state.
+    #[error("the latitude is undefined here: {reason}")]
+    LatitudeUndefined {
+        /// Why.
+        reason: String,
+    },
+}
+
+impl InputError {
+    /// The path of the offending field in a `/simulate` request, e.g. `params.epsilon`.
+    pub fn field(&self) -> String {
+        match self {
+            Self::UnknownSystem { .. } => "system".into(),
+            Self::UnknownParam { field, .. }
+            | Self::ParamOutOfRange { field, .. }
+            | Self::WrongLength { field, .. }
+            | Self::NonFinite { field, .. }
+            | Self::UnknownMethod { field, .. } => field.clone(),
+            Self::UnknownPreset { .. } => "preset".into(),
+            Self::InconsistentVelocity { .. } => "v".into(),
+            Self::NonPositiveStep { .. } => "step".into(),
+            Self::TEndTooShort { .. } => "t_end".into(),
+            Self::UnknownIntegral { .. } | Self::IntegralUnavailable { .. } => "integrals".into(),
+            Self::LatitudeUndefined { .. } => "integrals".into(),
+        }
+    }
+
+    /// The same error with its field path put under `prefix` (e.g. `methods[1]`).
+    pub fn within(mut self, prefix: &str) -> Self {
+        match &mut self {
+            Self::UnknownParam { field, .. }
+            | Self::ParamOutOfRange { field, .. }
+            | Self::NonFinite { field, .. }
+            | Self::UnknownMethod { field, .. } => *field = format!("{prefix}.{field}"),
+            _ => {}
+        }
+        self
+    }
+}
+
+/// Why one step could not be taken.
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
+pub enum StepFailure {
+    /// Newton's method did not reach its tolerance within its iteration budget.
+    #[error("Newton did not converge in {iterations} iterations (last increment {increment:.3e})")]
+    NewtonDiverged {
+        /// Iterations taken.
+        iterations: u32,
+        /// Size of the last increment.
+        increment: f64,
+    },
+    /// A linear system in the step was singular.
+    #[error("singular linear system in the step")]
+    Singular,
+    /// The step produced NaN or infinity.
+    #[error("the solution became non-finite (the run diverged)")]
+    NonFinite,
+}
+
+/// Why a run ended before t_end.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum RunError {
+    /// A step failed.
+    #[error("step {step} (t = {t:.6}) failed: {failure}")]
+    Step {
+        /// Index of the step that failed (1-based: step 1 goes from t = 0 to t = h).
+        step: u64,
+        /// Time at the start of that step.
+        t: f64,
+        /// What went wrong.
+        failure: StepFailure,
+    },
+    /// The observer asked to stop.
+    #[error("cancelled at step {step} (t = {t:.6})")]
+    Cancelled {
+        /// Steps completed.
+        step: u64,
+        /// Time reached.
+        t: f64,
+    },
+}

@@ -1,0 +1,72 @@
+//! `dla01`: DLA^{0,1} of McLachlan & Perlmutter: the force and the constraint force are
+//! taken at the midpoint `q₀ + (h/2) q̇₀`, the constraint is imposed at `q₁`.
+//!
+//! Second order and reversible. Implicit in `(q̇₁, λ)`, solved by Newton with the exact
+//! Jacobian (the nonlinearity is only through `A(ζ₁)`).
+
+use crate::method::{Integrator, MethodInfo};
+use crate::newton::{Linearization, NewtonConfig, solve};
+use crate::system::System;
+use crate::{InputError, Matrix, State, StepFailure};
+
+/// DLA^{0,1}.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Dla01 {
+    /// Newton's settings.
+    pub newton: NewtonConfig,
+}
+
+static INFO: MethodInfo = MethodInfo {
+    id: "dla01",
+    name: "DLA^{0,1} (McLachlan–Perlmutter)",
+    params: &[],
+    order: 2,
+    reference: "McLachlan & Perlmutter, J. Nonlinear Sci. 16 (2006); Modin & Verdier §2",
+    implicit: true,
+};
+
+impl Integrator for Dla01 {
+    fn info() -> &'static MethodInfo {
+        &INFO
+    }
+    fn from_params(_params: &[f64]) -> Result<Self, InputError> {
+        Ok(Self::default())
+    }
+    fn label(&self) -> String {
+        "DLA^{0,1}".into()
+    }
+    #[inline]
+    fn step<S: System<N, R>, const N: usize, const R: usize>(
+        &self,
+        sys: &S,
+        st: &mut State<N, R>,
+        h: f64,
+    ) -> Result<(), StepFailure> {
+        let q_half = st.q + 0.5 * h * st.v;
+        let a_half = sys.constraint(q_half[N - 1]);
+        let w = st.v - h * sys.gradient(&q_half);
+        let g = a_half.transpose() * (-h);
+        let mut v1 = w + h * (a_half.transpose() * st.lambda);
+        let mut lambda = st.lambda;
+        solve(&self.newton, &mut v1, &mut lambda, |v1, lambda| {
+            let z1 = q_half[N - 1] + 0.5 * h * v1[N - 1];
+            let a1 = sys.constraint(z1);
+            let mut c = a1;
+            let dcol = sys.constraint_d(z1) * v1 * (0.5 * h);
+            for r in 0..R {
+                c[(r, N - 1)] += dcol[r];
+            }
+            Linearization {
+                f1: v1 - w + g * lambda,
+                f2: a1 * v1,
+                b: Matrix::<N, N>::identity(),
+                g,
+                c,
+            }
+        })?;
+        st.q = q_half + 0.5 * h * v1;
+        st.v = v1;
+        st.lambda = lambda;
+        Ok(())
+    }
+}

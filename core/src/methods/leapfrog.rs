@@ -1,0 +1,54 @@
+//! `leapfrog`: the nonholonomic leap-frog (McLachlan–Perlmutter) in velocity-Verlet form.
+//!
+//! Explicit up to an R×R linear solve for the new multiplier; `λ₀` is carried from the
+//! previous step (MATH.md §3, corrections 2 and 6).
+
+use crate::linalg::Lu;
+use crate::method::{Integrator, MethodInfo};
+use crate::system::System;
+use crate::{InputError, State, StepFailure};
+
+/// Nonholonomic leap-frog (no parameters).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Leapfrog;
+
+static INFO: MethodInfo = MethodInfo {
+    id: "leapfrog",
+    name: "Nonholonomic leap-frog (LF)",
+    params: &[],
+    order: 2,
+    reference: "McLachlan & Perlmutter, J. Nonlinear Sci. 16 (2006); Modin & Verdier §2",
+    implicit: false,
+};
+
+impl Integrator for Leapfrog {
+    fn info() -> &'static MethodInfo {
+        &INFO
+    }
+    fn from_params(_params: &[f64]) -> Result<Self, InputError> {
+        Ok(Self)
+    }
+    fn label(&self) -> String {
+        "LF".into()
+    }
+    #[inline]
+    fn step<S: System<N, R>, const N: usize, const R: usize>(
+        &self,
+        sys: &S,
+        st: &mut State<N, R>,
+        h: f64,
+    ) -> Result<(), StepFailure> {
+        let a0 = sys.constraint(st.q[N - 1]);
+        let v_half = st.v + 0.5 * h * (a0.transpose() * st.lambda - sys.gradient(&st.q));
+        let q1 = st.q + h * v_half;
+        let a1 = sys.constraint(q1[N - 1]);
+        let w = v_half - 0.5 * h * sys.gradient(&q1);
+        // v₁ = w + (h/2) A₁ᵀ λ₁ with A₁ v₁ = 0.
+        let lu = Lu::new(a1 * a1.transpose()).ok_or(StepFailure::Singular)?;
+        let lambda1 = lu.solve(&(a1 * w)) * (-2.0 / h);
+        st.v = w + 0.5 * h * (a1.transpose() * lambda1);
+        st.q = q1;
+        st.lambda = lambda1;
+        Ok(())
+    }
+}

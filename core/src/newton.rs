@@ -1,0 +1,77 @@
+//! Newton's method for the implicit steps, with the exact Jacobian.
+//!
+//! Every implicit method of MATH.md §3 solves for `(q̇₁, λ)` a system whose Jacobian has the
+//! saddle-point form `[[B, G], [C, 0]]` (the constraint equations do not contain λ). It is
+//! solved by the Schur complement `S = C B⁻¹ G`, an N×N and an R×R factorization, all on the
+//! stack, instead of one (N+R)×(N+R) matrix that const generics cannot size.
+
+use crate::linalg::Lu;
+use crate::{Matrix, StepFailure, Vector};
+
+/// Newton's stopping rule and iteration budget.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonConfig {
+    /// Stop when the increment is below `tol · (1 + |unknowns|)` (max norm). Convergence is
+    /// quadratic, so the iterate is then accurate to round-off.
+    pub tol: f64,
+    /// An increment below this, but no longer shrinking, is round-off: accept it.
+    pub stagnation_tol: f64,
+    /// Give up after this many iterations.
+    pub max_iter: u32,
+}
+
+impl Default for NewtonConfig {
+    fn default() -> Self {
+        Self { tol: 1e-14, stagnation_tol: 1e-10, max_iter: 20 }
+    }
+}
+
+/// Residuals and Jacobian blocks at the current iterate.
+pub struct Linearization<const N: usize, const R: usize> {
+    /// Momentum-equation residual (N).
+    pub f1: Vector<N>,
+    /// Constraint residual (R).
+    pub f2: Vector<R>,
+    /// `∂f1/∂q̇₁`.
+    pub b: Matrix<N, N>,
+    /// `∂f1/∂λ`.
+    pub g: Matrix<N, R>,
+    /// `∂f2/∂q̇₁`.
+    pub c: Matrix<R, N>,
+}
+
+/// Solves `f(v, λ) = 0` starting from `(v, λ)`, updating them in place; returns the number
+/// of iterations.
+#[inline]
+pub fn solve<const N: usize, const R: usize>(
+    cfg: &NewtonConfig,
+    v: &mut Vector<N>,
+    lambda: &mut Vector<R>,
+    mut linearize: impl FnMut(&Vector<N>, &Vector<R>) -> Linearization<N, R>,
+) -> Result<u32, StepFailure> {
+    let mut previous = f64::INFINITY;
+    let mut increment = f64::INFINITY;
+    for it in 1..=cfg.max_iter {
+        let l = linearize(v, lambda);
+        let lu_b = Lu::new(l.b).ok_or(StepFailure::Singular)?;
+        let b_f1 = lu_b.solve(&l.f1);
+        let b_g = lu_b.solve(&l.g);
+        let lu_s = Lu::new(l.c * b_g).ok_or(StepFailure::Singular)?;
+        let d_lambda = lu_s.solve(&(l.f2 - l.c * b_f1));
+        let d_v = -(b_f1 + b_g * d_lambda);
+        *v += d_v;
+        *lambda += d_lambda;
+        increment = d_v.amax().max(d_lambda.amax());
+        if !increment.is_finite() {
+            return Err(StepFailure::NonFinite);
+        }
+        let scale = 1.0 + v.amax().max(lambda.amax());
+        if increment <= cfg.tol * scale
+            || (increment <= cfg.stagnation_tol * scale && increment >= 0.5 * previous)
+        {
+            return Ok(it);
+        }
+        previous = increment;
+    }
+    Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment })
+}

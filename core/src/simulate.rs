@@ -1,0 +1,167 @@
+//! The driver: runs one method on one problem and streams the downsampled error series to
+//! an [`Observer`], without storing the trajectory (memory is O(points), whatever the
+//! number of steps).
+//!
+//! Problem / algorithm / solve, as in OrdinaryDiffEq: a [`Problem`] holds the system, the
+//! start and what to measure, the method is a small config struct, [`run`] owns the loop.
+//! Only the integrals asked for are evaluated. A step that fails or produces a non-finite
+//! number ends the run with a [`RunError`] naming the step and time; the buckets completed
+//! by then have already been handed over.
+
+use crate::latitude::{LatitudeAxis, LatitudeTracker};
+use crate::method::Integrator;
+use crate::system::System;
+use crate::{Bucket, Bucketer, Integral, RunError, State, StepFailure};
+use std::ops::ControlFlow;
+
+/// Watches a run (argmin-style observer): receives completed buckets and progress, and may
+/// stop the run.
+pub trait Observer {
+    /// A completed bucket of one integral's error series.
+    fn points(&mut self, integral: Integral, bucket: Bucket);
+    /// Called every [`RunConfig::progress_every`] steps; `Break` cancels the run.
+    fn progress(&mut self, _steps_done: u64, _t: f64) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+}
+
+/// An observer that collects every series in memory (tests, JSON responses).
+#[derive(Debug, Clone, Default)]
+pub struct Collect {
+    /// Buckets per integral, in arrival order.
+    pub series: std::collections::BTreeMap<Integral, Vec<Bucket>>,
+}
+
+impl Observer for Collect {
+    fn points(&mut self, integral: Integral, bucket: Bucket) {
+        self.series.entry(integral).or_default().push(bucket);
+    }
+}
+
+/// How a run reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunConfig {
+    /// Buckets per series.
+    pub points: usize,
+    /// Steps between progress calls.
+    pub progress_every: u64,
+}
+
+impl Default for RunConfig {
+    fn default() -> Self {
+        Self { points: 1000, progress_every: 4096 }
+    }
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOutcome {
+    /// Steps completed.
+    pub steps: u64,
+    /// Why it ended early, if it did.
+    pub error: Option<RunError>,
+}
+
+/// What to integrate and what to measure.
+#[derive(Debug, Clone)]
+pub struct Problem<'a, S, const N: usize, const R: usize> {
+    /// The system.
+    pub sys: &'a S,
+    /// Initial state (with the continuous multiplier).
+    pub start: State<N, R>,
+    /// Step size h.
+    pub step: f64,
+    /// Number of steps.
+    pub steps: u64,
+    /// Integrals whose error series are wanted.
+    pub integrals: &'a [Integral],
+    /// The monodromy axis, when the latitude is wanted.
+    pub latitude: Option<LatitudeAxis>,
+}
+
+struct Series {
+    integral: Integral,
+    initial: f64,
+    buckets: Bucketer,
+}
+
+#[inline]
+fn value<S: System<N, R>, const N: usize, const R: usize>(
+    integral: Integral,
+    sys: &S,
+    st: &State<N, R>,
+) -> f64 {
+    match integral {
+        Integral::Energy => sys.energy(&st.q, &st.v),
+        Integral::PassengerEnergy => sys.passenger_energy(&st.q, &st.v),
+        Integral::DriverEnergy => sys.driver_energy(&st.q, &st.v),
+        Integral::Constraint => sys.constraint_residual(&st.q, &st.v),
+        Integral::Latitude => 0.0,
+    }
+}
+
+/// Runs `method` on `problem`, streaming to `observer`.
+pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
+    problem: &Problem<'_, S, N, R>,
+    method: &M,
+    cfg: &RunConfig,
+    observer: &mut dyn Observer,
+) -> RunOutcome {
+    let (sys, h) = (problem.sys, problem.step);
+    let mut st = problem.start;
+    let mut series: [Option<Series>; 4] = [None, None, None, None];
+    let step_integrals = problem.integrals.iter().filter(|&&i| i != Integral::Latitude);
+    for (slot, &integral) in series.iter_mut().zip(step_integrals) {
+        // The constraint residual is reported as is: its ideal value is 0, not its start.
+        let initial =
+            if integral == Integral::Constraint { 0.0 } else { value(integral, sys, &st) };
+        *slot =
+            Some(Series { integral, initial, buckets: Bucketer::new(problem.steps, cfg.points) });
+    }
+    let mut latitude =
+        problem.latitude.filter(|_| problem.integrals.contains(&Integral::Latitude)).map(|axis| {
+            let planned = axis.crossings_until(problem.steps as f64 * h);
+            (LatitudeTracker::new(axis, sys, &st.q, &st.v), Bucketer::new(planned, cfg.points))
+        });
+    let every = cfg.progress_every.max(1);
+    for k in 1..=problem.steps {
+        let t0 = (k - 1) as f64 * h;
+        let failed = |failure| RunOutcome {
+            steps: k - 1,
+            error: Some(RunError::Step { step: k, t: t0, failure }),
+        };
+        if let Err(failure) = method.step(sys, &mut st, h) {
+            return failed(failure);
+        }
+        if !st.is_finite() {
+            return failed(StepFailure::NonFinite);
+        }
+        let t = k as f64 * h;
+        for s in series.iter_mut().flatten() {
+            let e = (value(s.integral, sys, &st) - s.initial).abs();
+            if let Some(b) = s.buckets.push(t, e) {
+                observer.points(s.integral, b);
+            }
+        }
+        if let Some((tracker, buckets)) = latitude.as_mut()
+            && let Some((tc, e)) = tracker.observe(sys, t, &st.q, &st.v)
+            && let Some(b) = buckets.push(tc, e)
+        {
+            observer.points(Integral::Latitude, b);
+        }
+        if k % every == 0 && observer.progress(k, t).is_break() {
+            return RunOutcome { steps: k, error: Some(RunError::Cancelled { step: k, t }) };
+        }
+    }
+    for s in series.iter_mut().flatten() {
+        if let Some(b) = s.buckets.finish() {
+            observer.points(s.integral, b);
+        }
+    }
+    if let Some((_, buckets)) = latitude.as_mut()
+        && let Some(b) = buckets.finish()
+    {
+        observer.points(Integral::Latitude, b);
+    }
+    RunOutcome { steps: problem.steps, error: None }
+}

@@ -1,0 +1,163 @@
+//! The [`System`] trait: a nonholonomically coupled system of MATH.md §1.
+//!
+//! Configuration `q = (x, ζ)` with the driver `ζ` last, unit masses, potential
+//! `V(q) = U(x) + V_d(ζ)` and constraints `A(ζ) q̇ = 0` whose last column is zero. A system
+//! gives its pieces with exact derivatives (Newton needs them); the whole potential, its
+//! gradient and Hessian, the energies and the continuous multiplier are derived here once.
+
+use crate::{Integral, Matrix, Vector};
+
+/// One tunable parameter of a system or a method.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamSpec {
+    /// Name, as in the API (`epsilon`, `alpha`).
+    pub name: &'static str,
+    /// Value when not given.
+    pub default: f64,
+    /// Lower bound.
+    pub min: f64,
+    /// Upper bound.
+    pub max: f64,
+    /// Whether `min` itself is excluded.
+    pub min_open: bool,
+    /// Whether `max` itself is excluded.
+    pub max_open: bool,
+    /// One-line meaning.
+    pub description: &'static str,
+}
+
+impl ParamSpec {
+    /// Whether `value` is allowed.
+    pub fn contains(&self, value: f64) -> bool {
+        let above = if self.min_open { value > self.min } else { value >= self.min };
+        let below = if self.max_open { value < self.max } else { value <= self.max };
+        above && below
+    }
+
+    /// The allowed range as an interval, e.g. `(-1, 1)`.
+    pub fn range(&self) -> String {
+        format!(
+            "{}{}, {}{}",
+            if self.min_open { '(' } else { '[' },
+            self.min,
+            self.max,
+            if self.max_open { ')' } else { ']' }
+        )
+    }
+}
+
+/// A named initial state with its step and horizon (the paper's experiments among them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Preset {
+    /// Id, as in the API (`paper`, `rotating-perturbed`).
+    pub id: &'static str,
+    /// Human label.
+    pub label: &'static str,
+    /// Parameter values (the rest take their defaults).
+    pub params: &'static [(&'static str, f64)],
+    /// Initial configuration.
+    pub q: &'static [f64],
+    /// Initial velocity (consistent with the constraints).
+    pub v: &'static [f64],
+    /// Step size.
+    pub step: f64,
+    /// Final time.
+    pub t_end: f64,
+}
+
+/// What a system is, for listings and validation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SystemInfo {
+    /// Id, as in the API.
+    pub id: &'static str,
+    /// Human name.
+    pub name: &'static str,
+    /// One or two sentences.
+    pub description: &'static str,
+    /// Parameters, in the order [`System::new`] takes them.
+    pub params: &'static [ParamSpec],
+    /// The integrals (and the constraint diagnostic) it has.
+    pub integrals: &'static [Integral],
+    /// Presets; the first is the default.
+    pub presets: &'static [Preset],
+}
+
+/// A nonholonomically coupled system with `N` coordinates and `R` constraints.
+pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static {
+    /// Its description.
+    fn info() -> &'static SystemInfo;
+    /// Builds it from parameter values given in the order of `info().params`, already
+    /// checked against their ranges.
+    fn new(params: &[f64]) -> Self;
+
+    /// Passenger potential `U(x)` (the driver's slot of `q` is ignored).
+    fn passenger_potential(&self, q: &Vector<N>) -> f64;
+    /// `∇U`, with a zero driver component.
+    fn passenger_gradient(&self, q: &Vector<N>) -> Vector<N>;
+    /// `∇²U`, with a zero driver row and column.
+    fn passenger_hessian(&self, q: &Vector<N>) -> Matrix<N, N>;
+    /// Driver potential `V_d(ζ)`.
+    fn driver_potential(&self, zeta: f64) -> f64;
+    /// `V_d'(ζ)`.
+    fn driver_potential_d1(&self, zeta: f64) -> f64;
+    /// `V_d''(ζ)`.
+    fn driver_potential_d2(&self, zeta: f64) -> f64;
+    /// `A(ζ)`, R×N, last column zero.
+    fn constraint(&self, zeta: f64) -> Matrix<R, N>;
+    /// `dA/dζ`.
+    fn constraint_d(&self, zeta: f64) -> Matrix<R, N>;
+    /// Unit vector spanning `ker A_x(ζ)`, signed as in MATH.md §2, zero driver component.
+    fn kernel(&self, zeta: f64) -> Vector<N>;
+    /// Whether `V_d` is 2π-periodic, so that a rotating driver returns to its section.
+    fn driver_is_periodic(&self) -> bool {
+        false
+    }
+
+    /// Total potential `V = U + V_d`.
+    #[inline]
+    fn potential(&self, q: &Vector<N>) -> f64 {
+        self.passenger_potential(q) + self.driver_potential(q[N - 1])
+    }
+    /// `∇V`.
+    #[inline]
+    fn gradient(&self, q: &Vector<N>) -> Vector<N> {
+        let mut g = self.passenger_gradient(q);
+        g[N - 1] = self.driver_potential_d1(q[N - 1]);
+        g
+    }
+    /// `∇²V`.
+    #[inline]
+    fn hessian(&self, q: &Vector<N>) -> Matrix<N, N> {
+        let mut h = self.passenger_hessian(q);
+        h[(N - 1, N - 1)] = self.driver_potential_d2(q[N - 1]);
+        h
+    }
+    /// Total energy `H = ½|q̇|² + V(q)`.
+    #[inline]
+    fn energy(&self, q: &Vector<N>, v: &Vector<N>) -> f64 {
+        0.5 * v.norm_squared() + self.potential(q)
+    }
+    /// Passenger energy `E = ½|ẋ|² + U(x)`.
+    #[inline]
+    fn passenger_energy(&self, q: &Vector<N>, v: &Vector<N>) -> f64 {
+        0.5 * (v.norm_squared() - v[N - 1] * v[N - 1]) + self.passenger_potential(q)
+    }
+    /// Driver energy `h = ½ζ̇² + V_d(ζ)`.
+    #[inline]
+    fn driver_energy(&self, q: &Vector<N>, v: &Vector<N>) -> f64 {
+        0.5 * v[N - 1] * v[N - 1] + self.driver_potential(q[N - 1])
+    }
+    /// Constraint residual `|A(q) q̇|`.
+    #[inline]
+    fn constraint_residual(&self, q: &Vector<N>, v: &Vector<N>) -> f64 {
+        (self.constraint(q[N - 1]) * v).norm()
+    }
+    /// The continuous multiplier of MATH.md §1: `A Aᵀ λ = A ∇V − Ȧ q̇`.
+    fn continuous_multiplier(&self, q: &Vector<N>, v: &Vector<N>) -> Option<Vector<R>> {
+        let a = self.constraint(q[N - 1]);
+        let a_dot = self.constraint_d(q[N - 1]) * v[N - 1];
+        let rhs = a * self.gradient(q) - a_dot * v;
+        let lu = crate::linalg::Lu::new(a * a.transpose())?;
+        Some(lu.solve(&rhs))
+    }
+}

@@ -1,0 +1,68 @@
+//! `mobile_robot`: the rolling disk with a heading potential `V_d = sin ζ`.
+//!
+//! Same geometry as `rolling_disk`; the potential makes the heading a pendulum, so the
+//! driver is no longer uniform.
+
+use super::rolling_disk::{DISK_INTEGRALS, disk_constraint, disk_constraint_d, disk_kernel};
+use crate::system::{Preset, System, SystemInfo};
+use crate::{Matrix, Vector};
+
+/// The mobile robot (no parameters).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MobileRobot;
+
+static INFO: SystemInfo = SystemInfo {
+    id: "mobile_robot",
+    name: "Mobile robot",
+    description: "A rolling disk whose heading ζ feels the potential sin ζ, so it swings like a pendulum.",
+    params: &[],
+    integrals: DISK_INTEGRALS,
+    presets: &[Preset {
+        id: "default",
+        label: "Heading swinging about −π/2",
+        params: &[],
+        q: &[0.0, 0.0, 0.0, 0.0],
+        v: &[-1.0, 0.0, 1.0, 1.0],
+        step: 0.1,
+        t_end: 100.0,
+    }],
+};
+
+impl System<4, 2> for MobileRobot {
+    fn info() -> &'static SystemInfo {
+        &INFO
+    }
+    fn new(_params: &[f64]) -> Self {
+        Self
+    }
+    fn passenger_potential(&self, _q: &Vector<4>) -> f64 {
+        0.0
+    }
+    fn passenger_gradient(&self, _q: &Vector<4>) -> Vector<4> {
+        Vector::zeros()
+    }
+    fn passenger_hessian(&self, _q: &Vector<4>) -> Matrix<4, 4> {
+        Matrix::zeros()
+    }
+    fn driver_potential(&self, zeta: f64) -> f64 {
+        zeta.sin()
+    }
+    fn driver_potential_d1(&self, zeta: f64) -> f64 {
+        zeta.cos()
+    }
+    fn driver_potential_d2(&self, zeta: f64) -> f64 {
+        -zeta.sin()
+    }
+    fn constraint(&self, zeta: f64) -> Matrix<2, 4> {
+        disk_constraint(zeta)
+    }
+    fn constraint_d(&self, zeta: f64) -> Matrix<2, 4> {
+        disk_constraint_d(zeta)
+    }
+    fn kernel(&self, zeta: f64) -> Vector<4> {
+        disk_kernel(zeta)
+    }
+    fn driver_is_periodic(&self) -> bool {
+        true
+    }
+}

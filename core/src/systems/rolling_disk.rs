@@ -1,0 +1,87 @@
+//! `rolling_disk`: the vertical rolling disk, and the disk geometry shared with
+//! `mobile_robot`.
+//!
+//! `q = (x₁, x₂, φ, ζ)`: contact point, rolling angle, heading. Rolling without slipping:
+//! `ẋ₁ + cos ζ φ̇ = 0`, `ẋ₂ + sin ζ φ̇ = 0`. No potential, so the heading turns uniformly and
+//! the disk runs on a circle: an exact solution for the convergence tests.
+
+use crate::system::{Preset, System, SystemInfo};
+use crate::{Integral, Matrix, Vector};
+
+/// The vertical rolling disk (no parameters).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RollingDisk;
+
+/// `A(ζ)` of a disk rolling without slipping.
+pub(crate) fn disk_constraint(zeta: f64) -> Matrix<2, 4> {
+    let (s, c) = zeta.sin_cos();
+    Matrix::<2, 4>::new(1.0, 0.0, c, 0.0, 0.0, 1.0, s, 0.0)
+}
+
+/// `dA/dζ` of the rolling disk.
+pub(crate) fn disk_constraint_d(zeta: f64) -> Matrix<2, 4> {
+    let (s, c) = zeta.sin_cos();
+    Matrix::<2, 4>::new(0.0, 0.0, -s, 0.0, 0.0, 0.0, c, 0.0)
+}
+
+/// The unit kernel `(−cos ζ, −sin ζ, 1)/√2` of the rolling disk.
+pub(crate) fn disk_kernel(zeta: f64) -> Vector<4> {
+    let (s, c) = zeta.sin_cos();
+    Vector::<4>::new(-c, -s, 1.0, 0.0) * std::f64::consts::FRAC_1_SQRT_2
+}
+
+pub(crate) const DISK_INTEGRALS: &[Integral] =
+    &[Integral::Energy, Integral::PassengerEnergy, Integral::DriverEnergy, Integral::Constraint];
+
+static INFO: SystemInfo = SystemInfo {
+    id: "rolling_disk",
+    name: "Vertical rolling disk",
+    description: "A disk rolling upright without slipping on a plane; its heading ζ drives the contact point.",
+    params: &[],
+    integrals: DISK_INTEGRALS,
+    presets: &[Preset {
+        id: "default",
+        label: "Rolling and turning at unit rates",
+        params: &[],
+        q: &[0.0, 0.0, 0.0, 0.0],
+        v: &[-1.0, 0.0, 1.0, 1.0],
+        step: 0.1,
+        t_end: 100.0,
+    }],
+};
+
+impl System<4, 2> for RollingDisk {
+    fn info() -> &'static SystemInfo {
+        &INFO
+    }
+    fn new(_params: &[f64]) -> Self {
+        Self
+    }
+    fn passenger_potential(&self, _q: &Vector<4>) -> f64 {
+        0.0
+    }
+    fn passenger_gradient(&self, _q: &Vector<4>) -> Vector<4> {
+        Vector::zeros()
+    }
+    fn passenger_hessian(&self, _q: &Vector<4>) -> Matrix<4, 4> {
+        Matrix::zeros()
+    }
+    fn driver_potential(&self, _zeta: f64) -> f64 {
+        0.0
+    }
+    fn driver_potential_d1(&self, _zeta: f64) -> f64 {
+        0.0
+    }
+    fn driver_potential_d2(&self, _zeta: f64) -> f64 {
+        0.0
+    }
+    fn constraint(&self, zeta: f64) -> Matrix<2, 4> {
+        disk_constraint(zeta)
+    }
+    fn constraint_d(&self, zeta: f64) -> Matrix<2, 4> {
+        disk_constraint_d(zeta)
+    }
+    fn kernel(&self, zeta: f64) -> Vector<4> {
+        disk_kernel(zeta)
+    }
+}
