@@ -123,7 +123,8 @@ impl Scene {
         }
         let scene = Self { system: entry, preset: preset.id, params, q, v, step, t_end };
         let residual = (entry.residual)(&scene);
-        if !(residual <= 1e-9) {
+        // A NaN residual (overflowing q or v) is inconsistent too.
+        if residual.is_nan() || residual > 1e-9 {
             return Err(InputError::InconsistentVelocity { residual });
         }
         Ok(scene)

@@ -17,6 +17,8 @@ use std::ops::ControlFlow;
 /// Watches a run (argmin-style observer): receives completed buckets and progress, and may
 /// stop the run.
 pub trait Observer {
+    /// The initial value `I(0)` of a series, before any bucket (the verdict's scale).
+    fn initial(&mut self, _integral: Integral, _value: f64) {}
     /// A completed bucket of one integral's error series.
     fn points(&mut self, integral: Integral, bucket: Bucket);
     /// Called every [`RunConfig::progress_every`] steps; `Break` cancels the run.
@@ -30,9 +32,14 @@ pub trait Observer {
 pub struct Collect {
     /// Buckets per integral, in arrival order.
     pub series: std::collections::BTreeMap<Integral, Vec<Bucket>>,
+    /// `I(0)` per integral.
+    pub initial: std::collections::BTreeMap<Integral, f64>,
 }
 
 impl Observer for Collect {
+    fn initial(&mut self, integral: Integral, value: f64) {
+        self.initial.insert(integral, value);
+    }
     fn points(&mut self, integral: Integral, bucket: Bucket) {
         self.series.entry(integral).or_default().push(bucket);
     }
@@ -115,11 +122,13 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
         // The constraint residual is reported as is: its ideal value is 0, not its start.
         let initial =
             if integral == Integral::Constraint { 0.0 } else { value(integral, sys, &st) };
+        observer.initial(integral, initial);
         *slot =
             Some(Series { integral, initial, buckets: Bucketer::new(problem.steps, cfg.points) });
     }
     let mut latitude =
         problem.latitude.filter(|_| problem.integrals.contains(&Integral::Latitude)).map(|axis| {
+            observer.initial(Integral::Latitude, axis.latitude0);
             let planned = axis.crossings_until(problem.steps as f64 * h);
             (LatitudeTracker::new(axis, sys, &st.q, &st.v), Bucketer::new(planned, cfg.points))
         });

@@ -1,0 +1,50 @@
+//! Shared test helpers: the typed list of systems (checked against the registry, so a new
+//! system cannot be forgotten here) and typed access to presets.
+#![allow(dead_code)] // each test file uses a different subset
+
+use nhlab_core::{SYSTEMS, State, System, Vector};
+
+/// Runs `$body` once per registered system, with `$S`, `$N`, `$R` bound to its type and sizes.
+#[macro_export]
+macro_rules! for_each_system {
+    ($f:ident) => {{
+        use nhlab_core::systems::*;
+        $f::<KnifeEdge, 3, 1>();
+        $f::<CvtPendulum, 3, 1>();
+        $f::<Cvt, 3, 1>();
+        $f::<Particle, 3, 1>();
+        $f::<RollingDisk, 4, 2>();
+        $f::<MobileRobot, 4, 2>();
+    }};
+}
+
+/// The ids the macro above covers, in registry order.
+pub const TYPED_IDS: [&str; 6] =
+    ["knife_edge", "cvt_pendulum", "cvt", "particle", "rolling_disk", "mobile_robot"];
+
+/// Panics unless the typed list matches the registry.
+pub fn assert_typed_list_matches_registry() {
+    let ids: Vec<&str> = SYSTEMS.iter().map(|s| s.info().id).collect();
+    assert_eq!(ids, TYPED_IDS, "update for_each_system! in core/tests/common");
+}
+
+/// The system built from preset `index` (params applied) and its start state.
+pub fn preset_start<S: System<N, R>, const N: usize, const R: usize>(
+    index: usize,
+) -> (S, State<N, R>, f64) {
+    let info = S::info();
+    let p = &info.presets[index];
+    let mut params: Vec<f64> = info.params.iter().map(|s| s.default).collect();
+    for (name, value) in p.params {
+        let i = info.params.iter().position(|s| s.name == *name).unwrap();
+        params[i] = *value;
+    }
+    let sys = S::new(&params);
+    let st = State::with_continuous_multiplier(
+        &sys,
+        Vector::<N>::from_column_slice(p.q),
+        Vector::<N>::from_column_slice(p.v),
+    )
+    .unwrap();
+    (sys, st, p.step)
+}

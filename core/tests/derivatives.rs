@@ -1,0 +1,71 @@
+//! Every system's hand-written derivatives against central finite differences, its kernel
+//! against its constraint, and its presets against the constraints.
+
+mod common;
+use nhlab_core::{Matrix, System, Vector};
+
+const H: f64 = 1e-5;
+const TOL: f64 = 1e-8;
+
+fn sample_points<const N: usize>() -> Vec<Vector<N>> {
+    (0..7)
+        .map(|k| Vector::<N>::from_fn(|i, _| ((k * 7 + i * 3) as f64 * 0.37).sin() * 2.0))
+        .collect()
+}
+
+fn check<S: System<N, R>, const N: usize, const R: usize>() {
+    let id = S::info().id;
+    for eps in [0.0, 0.3] {
+        let params: Vec<f64> = S::info().params.iter().map(|_| eps).collect();
+        let sys = S::new(&params);
+        for q in sample_points::<N>() {
+            let g = sys.gradient(&q);
+            let hess = sys.hessian(&q);
+            for i in 0..N {
+                let mut e = Vector::<N>::zeros();
+                e[i] = H;
+                let fd = (sys.potential(&(q + e)) - sys.potential(&(q - e))) / (2.0 * H);
+                assert!((fd - g[i]).abs() < TOL, "{id}: dV/dq{i} {fd} vs {}", g[i]);
+                let fd_col = (sys.gradient(&(q + e)) - sys.gradient(&(q - e))) / (2.0 * H);
+                assert!((fd_col - hess.column(i)).amax() < TOL, "{id}: Hessian column {i}");
+            }
+            let z = q[N - 1];
+            let fd_a = (sys.constraint(z + H) - sys.constraint(z - H)) / (2.0 * H);
+            assert!((fd_a - sys.constraint_d(z)).amax() < TOL, "{id}: dA/dζ at {z}");
+            let a: Matrix<R, N> = sys.constraint(z);
+            assert!(a.column(N - 1).amax() == 0.0, "{id}: A must not involve ζ̇");
+            let k = sys.kernel(z);
+            assert!((a * k).amax() < 1e-14, "{id}: A k ≠ 0");
+            assert!((k.norm() - 1.0).abs() < 1e-14 && k[N - 1] == 0.0, "{id}: k not unit");
+        }
+    }
+    for p in S::info().presets {
+        let mut params: Vec<f64> = S::info().params.iter().map(|s| s.default).collect();
+        for (name, value) in p.params {
+            let i = S::info().params.iter().position(|s| s.name == *name).unwrap();
+            params[i] = *value;
+        }
+        let sys = S::new(&params);
+        let (q, v) = (Vector::<N>::from_column_slice(p.q), Vector::<N>::from_column_slice(p.v));
+        assert!(sys.constraint_residual(&q, &v) < 1e-12, "{id}/{}: inconsistent preset", p.id);
+    }
+}
+
+#[test]
+fn derivatives_kernels_and_presets() {
+    common::assert_typed_list_matches_registry();
+    for_each_system!(check);
+}
+
+#[test]
+fn paper_energies() {
+    use nhlab_core::systems::CvtPendulum;
+    // MATH.md §2: the CVT presets have H(0) = 2.8 and 5.0 (correction 1).
+    for eps in [0.0, 0.5] {
+        let sys = CvtPendulum::new(&[eps]);
+        for (zdot, h0) in [(1.897_366_6, 2.8), (2.828_427_12, 5.0)] {
+            let e = sys.energy(&Vector::<3>::new(1.0, 1.0, 0.0), &Vector::<3>::new(0.0, 0.0, zdot));
+            assert!((e - h0).abs() < 1e-7, "H(0) = {e}, paper {h0}");
+        }
+    }
+}

@@ -1,0 +1,154 @@
+//! The driver's contract: step counts, buckets, typed failures that keep completed buckets,
+//! non-finite detection and cancellation.
+
+use nhlab_core::method::{Integrator, MethodInfo};
+use nhlab_core::simulate::{Problem, run};
+use nhlab_core::systems::KnifeEdge;
+use nhlab_core::{
+    Bucket, Collect, InputError, Integral, Observer, RunConfig, RunError, State, StepFailure,
+    System, Vector,
+};
+use std::ops::ControlFlow;
+
+/// A method that behaves like explicit Euler until step `fail_at`, then fails or returns NaN.
+#[derive(Clone, Copy)]
+struct Faulty {
+    fail_at: u64,
+    nan: bool,
+}
+static FAULTY: MethodInfo = MethodInfo {
+    id: "faulty",
+    name: "test method",
+    params: &[],
+    order: 1,
+    reference: "",
+    implicit: false,
+};
+thread_local! {
+    // Tests run on separate threads, so each counts its own steps.
+    static STEP: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+impl Integrator for Faulty {
+    fn info() -> &'static MethodInfo {
+        &FAULTY
+    }
+    fn from_params(_: &[f64]) -> Result<Self, InputError> {
+        unreachable!()
+    }
+    fn label(&self) -> String {
+        "faulty".into()
+    }
+    fn step<S: System<N, R>, const N: usize, const R: usize>(
+        &self,
+        sys: &S,
+        st: &mut State<N, R>,
+        h: f64,
+    ) -> Result<(), StepFailure> {
+        let k = STEP.get() + 1;
+        STEP.set(k);
+        if k == self.fail_at {
+            if self.nan {
+                st.q[0] = f64::NAN;
+                return Ok(());
+            }
+            return Err(StepFailure::NewtonDiverged { iterations: 20, increment: 1.0 });
+        }
+        st.q += h * st.v;
+        st.v -= h * sys.gradient(&st.q);
+        Ok(())
+    }
+}
+
+fn problem(sys: &KnifeEdge, steps: u64) -> Problem<'_, KnifeEdge, 3, 1> {
+    let start = State::with_continuous_multiplier(
+        sys,
+        Vector::<3>::new(0.0, 0.0, 1.0),
+        Vector::<3>::new(0.0, 0.0, 1.0),
+    )
+    .unwrap();
+    Problem {
+        sys,
+        start,
+        step: 0.01,
+        steps,
+        integrals: &[Integral::Energy, Integral::DriverEnergy],
+        latitude: None,
+    }
+}
+
+#[test]
+fn failure_names_step_and_time_and_keeps_completed_buckets() {
+    for nan in [false, true] {
+        STEP.set(0);
+        let sys = KnifeEdge { epsilon: 0.0 };
+        let mut c = Collect::default();
+        let out = run(
+            &problem(&sys, 1000),
+            &Faulty { fail_at: 537, nan },
+            &RunConfig { points: 10, progress_every: 64 },
+            &mut c,
+        );
+        let failure = if nan {
+            StepFailure::NonFinite
+        } else {
+            StepFailure::NewtonDiverged { iterations: 20, increment: 1.0 }
+        };
+        assert_eq!(out.steps, 536);
+        match out.error {
+            Some(RunError::Step { step: 537, t, failure: f }) => {
+                assert!((t - 5.36).abs() < 1e-12);
+                assert_eq!(f, failure);
+            }
+            other => panic!("{other:?}"),
+        }
+        // 10 buckets of 100 steps: the 5 completed ones, no NaN anywhere.
+        let e: &Vec<Bucket> = &c.series[&Integral::Energy];
+        assert_eq!(e.len(), 5);
+        assert!(e.iter().all(|b| b.mean.is_finite() && b.max.is_finite()));
+        assert_eq!(e.last().unwrap().t, 5.0);
+        assert!(out.error.unwrap().to_string().contains("step 537 (t = 5.36"));
+    }
+}
+
+struct StopAt(u64, Collect);
+impl Observer for StopAt {
+    fn points(&mut self, i: Integral, b: Bucket) {
+        self.1.points(i, b)
+    }
+    fn progress(&mut self, done: u64, _t: f64) -> ControlFlow<()> {
+        if done >= self.0 { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+    }
+}
+
+#[test]
+fn observer_cancels() {
+    STEP.set(0);
+    let sys = KnifeEdge { epsilon: 0.0 };
+    let mut obs = StopAt(300, Collect::default());
+    let out = run(
+        &problem(&sys, 100_000),
+        &Faulty { fail_at: 0, nan: false },
+        &RunConfig { points: 1000, progress_every: 100 },
+        &mut obs,
+    );
+    assert_eq!(out.steps, 300);
+    assert!(matches!(out.error, Some(RunError::Cancelled { step: 300, .. })));
+    assert_eq!(obs.1.series[&Integral::Energy].len(), 3);
+}
+
+#[test]
+fn successful_run_delivers_every_bucket_once() {
+    let sys = KnifeEdge { epsilon: 0.0 };
+    let mut c = Collect::default();
+    let lf = nhlab_core::methods::Leapfrog;
+    let out =
+        run(&problem(&sys, 30_001), &lf, &RunConfig { points: 1000, progress_every: 4096 }, &mut c);
+    assert_eq!(out, nhlab_core::RunOutcome { steps: 30_001, error: None });
+    for series in c.series.values() {
+        assert_eq!(series.len(), 1000);
+        assert!((series.last().unwrap().t - 300.01).abs() < 1e-9);
+        assert!(series.windows(2).all(|w| w[0].t < w[1].t));
+    }
+    assert_eq!(c.initial[&Integral::DriverEnergy], 0.5);
+}
