@@ -5,7 +5,7 @@
 //! solved by the Schur complement `S = C B⁻¹ G`, an N×N and an R×R factorization, all on the
 //! stack, instead of one (N+R)×(N+R) matrix that const generics cannot size.
 
-use crate::linalg::Lu;
+use crate::linalg;
 use crate::{Matrix, StepFailure, Vector};
 
 /// Newton's stopping rule and iteration budget.
@@ -25,6 +25,9 @@ impl Default for NewtonConfig {
         Self { tol: 1e-14, stagnation_tol: 1e-10, max_iter: 20 }
     }
 }
+
+/// Increments below this (relative) are taken to be in Newton's quadratic regime.
+const QUADRATIC_REGIME: f64 = 1e-6;
 
 /// Residuals and Jacobian blocks at the current iterate.
 pub struct Linearization<const N: usize, const R: usize> {
@@ -53,11 +56,10 @@ pub fn solve<const N: usize, const R: usize>(
     let mut increment = f64::INFINITY;
     for it in 1..=cfg.max_iter {
         let l = linearize(v, lambda);
-        let lu_b = Lu::new(l.b).ok_or(StepFailure::Singular)?;
-        let b_f1 = lu_b.solve(&l.f1);
-        let b_g = lu_b.solve(&l.g);
-        let lu_s = Lu::new(l.c * b_g).ok_or(StepFailure::Singular)?;
-        let d_lambda = lu_s.solve(&(l.f2 - l.c * b_f1));
+        let b_inv = linalg::inverse(&l.b).ok_or(StepFailure::Singular)?;
+        let (b_f1, b_g) = (b_inv * l.f1, b_inv * l.g);
+        let d_lambda =
+            linalg::solve(&(l.c * b_g), &(l.f2 - l.c * b_f1)).ok_or(StepFailure::Singular)?;
         let d_v = -(b_f1 + b_g * d_lambda);
         *v += d_v;
         *lambda += d_lambda;
@@ -66,7 +68,12 @@ pub fn solve<const N: usize, const R: usize>(
             return Err(StepFailure::NonFinite);
         }
         let scale = 1.0 + v.amax().max(lambda.amax());
+        // Quadratic convergence: e_{k+1} ≈ C e_k² with C ≈ δ_k/δ_{k−1}², so the error left
+        // after this update is about δ_k³/δ_{k−1}². Trusting it (only once δ_k is small
+        // enough to be in the quadratic regime) saves the iteration that would only verify.
+        let predicted = increment * (increment / previous).powi(2);
         if increment <= cfg.tol * scale
+            || (increment <= QUADRATIC_REGIME * scale && predicted <= cfg.tol * scale)
             || (increment <= cfg.stagnation_tol * scale && increment >= 0.5 * previous)
         {
             return Ok(it);

@@ -157,7 +157,6 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
         let a = self.constraint(q[N - 1]);
         let a_dot = self.constraint_d(q[N - 1]) * v[N - 1];
         let rhs = a * self.gradient(q) - a_dot * v;
-        let lu = crate::linalg::Lu::new(a * a.transpose())?;
-        Some(lu.solve(&rhs))
+        crate::linalg::solve(&(a * a.transpose()), &rhs)
     }
 }

@@ -31,6 +31,7 @@ static INFO: MethodInfo = MethodInfo {
 fn discrete_gradient<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
     q0: &Vector<N>,
+    v_q0: f64,
     dq: &Vector<N>,
     h: f64,
 ) -> (Vector<N>, Matrix<N, N>) {
@@ -42,7 +43,7 @@ fn discrete_gradient<S: System<N, R>, const N: usize, const R: usize>(
         return (g_mid, hess_mid * (0.25 * h));
     }
     let q1 = q0 + dq;
-    let c = sys.potential(&q1) - sys.potential(q0) - g_mid.dot(dq);
+    let c = sys.potential(&q1) - v_q0 - g_mid.dot(dq);
     let u = dq / dq2;
     // dc/dq̇₁ = (h/2) [∇V(q₁) − ∇V(q̄) − ½ ∇²V(q̄) Δq]
     let dc = (sys.gradient(&q1) - g_mid - 0.5 * (hess_mid * dq)) * (0.5 * h);
@@ -74,13 +75,14 @@ impl Integrator for Dd {
         let a0 = sys.constraint(q0[N - 1]);
         let mut v1 = v0 + h * (a0.transpose() * st.lambda - sys.gradient(&q0));
         let mut lambda = st.lambda;
+        let v_q0 = sys.potential(&q0);
         solve(&self.newton, &mut v1, &mut lambda, |v1, lambda| {
             let s = v0 + v1;
             let dq = s * (0.5 * h);
             let z_mid = q0[N - 1] + 0.5 * dq[N - 1];
             let a_mid = sys.constraint(z_mid);
             let da_mid = sys.constraint_d(z_mid);
-            let (grad, jac) = discrete_gradient(sys, &q0, &dq, h);
+            let (grad, jac) = discrete_gradient(sys, &q0, v_q0, &dq, h);
             let mut b = Matrix::<N, N>::identity() + jac * h;
             // −h A(q̄)ᵀλ depends on q̇₁ through ζ̄ (dζ̄ = (h/4) dζ̇₁).
             let dforce = da_mid.transpose() * lambda * (-h * 0.25 * h);

@@ -3,7 +3,7 @@
 //! Explicit up to an R×R linear solve for the new multiplier; `λ₀` is carried from the
 //! previous step (MATH.md §3, corrections 2 and 6).
 
-use crate::linalg::Lu;
+use crate::linalg;
 use crate::method::{Integrator, MethodInfo};
 use crate::system::System;
 use crate::{InputError, State, StepFailure};
@@ -44,8 +44,9 @@ impl Integrator for Leapfrog {
         let a1 = sys.constraint(q1[N - 1]);
         let w = v_half - 0.5 * h * sys.gradient(&q1);
         // v₁ = w + (h/2) A₁ᵀ λ₁ with A₁ v₁ = 0.
-        let lu = Lu::new(a1 * a1.transpose()).ok_or(StepFailure::Singular)?;
-        let lambda1 = lu.solve(&(a1 * w)) * (-2.0 / h);
+        let lambda1 = linalg::solve(&(a1 * a1.transpose()), &(a1 * w))
+            .ok_or(StepFailure::Singular)?
+            * (-2.0 / h);
         st.v = w + 0.5 * h * (a1.transpose() * lambda1);
         st.q = q1;
         st.lambda = lambda1;

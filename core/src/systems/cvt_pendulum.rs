@@ -75,20 +75,25 @@ impl System<3, 1> for CvtPendulum {
     fn passenger_hessian(&self, _q: &Vector<3>) -> Matrix<3, 3> {
         Matrix::<3, 3>::from_diagonal(&Vector::<3>::new(1.0, 1.0, 0.0))
     }
+    // Double angles from one sin_cos: the step evaluates these with the constraint at the
+    // same ζ, so the compiler shares a single sincos call among them.
     fn driver_potential(&self, zeta: f64) -> f64 {
-        1.0 - zeta.cos() - 0.5 * self.epsilon * (2.0 * zeta).sin()
+        let (s, c) = zeta.sin_cos();
+        1.0 - c - self.epsilon * s * c
     }
     fn driver_potential_d1(&self, zeta: f64) -> f64 {
-        zeta.sin() - self.epsilon * (2.0 * zeta).cos()
+        let (s, c) = zeta.sin_cos();
+        s - self.epsilon * (c * c - s * s)
     }
     fn driver_potential_d2(&self, zeta: f64) -> f64 {
-        zeta.cos() + 2.0 * self.epsilon * (2.0 * zeta).sin()
+        let (s, c) = zeta.sin_cos();
+        c + 4.0 * self.epsilon * s * c
     }
     fn constraint(&self, zeta: f64) -> Matrix<1, 3> {
-        Matrix::<1, 3>::new(1.0, zeta.sin(), 0.0)
+        Matrix::<1, 3>::new(1.0, zeta.sin_cos().0, 0.0)
     }
     fn constraint_d(&self, zeta: f64) -> Matrix<1, 3> {
-        Matrix::<1, 3>::new(0.0, zeta.cos(), 0.0)
+        Matrix::<1, 3>::new(0.0, zeta.sin_cos().1, 0.0)
     }
     fn kernel(&self, zeta: f64) -> Vector<3> {
         let s = zeta.sin();

@@ -1,0 +1,95 @@
+//! ns/step for every method × system, and the paper's whole figure set on one core.
+//! `cargo bench -p nhlab-core`; numbers go to docs/benchmarks.md.
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use nhlab_core::systems::*;
+use nhlab_core::{Method, Observer, RunConfig, Scene, SceneRequest, State, System, Vector};
+use std::hint::black_box;
+
+const STEPS: u64 = 10_000;
+
+fn methods() -> Vec<Method> {
+    Method::paper_five().to_vec()
+}
+
+fn bench_system<S: System<N, R>, const N: usize, const R: usize>(c: &mut Criterion) {
+    let info = S::info();
+    let p = &info.presets[0];
+    let mut params: Vec<f64> = info.params.iter().map(|s| s.default).collect();
+    for (name, value) in p.params {
+        if let Some(i) = info.params.iter().position(|s| s.name == *name) {
+            params[i] = *value;
+        }
+    }
+    let sys = S::new(&params);
+    let start = State::with_continuous_multiplier(
+        &sys,
+        Vector::<N>::from_column_slice(p.q),
+        Vector::<N>::from_column_slice(p.v),
+    )
+    .expect("preset is regular");
+    let mut group = c.benchmark_group(format!("step/{}", info.id));
+    group.throughput(Throughput::Elements(STEPS));
+    for m in methods() {
+        group.bench_function(BenchmarkId::from_parameter(m.label()), |b| {
+            b.iter(|| {
+                let mut st = start;
+                for _ in 0..STEPS {
+                    m.step(&sys, &mut st, black_box(p.step)).expect("step");
+                }
+                black_box(st)
+            })
+        });
+    }
+    group.finish();
+}
+
+struct Sink;
+impl Observer for Sink {
+    fn points(&mut self, integral: nhlab_core::Integral, bucket: nhlab_core::Bucket) {
+        black_box((integral, bucket));
+    }
+}
+
+/// Knife edge ε ∈ {0, 0.1} to t = 100 and the four CVT scenes to t = 3000, five methods
+/// each, all integrals (latitude axis included), 1000 points: about 620,000 steps.
+fn figure_set(c: &mut Criterion) {
+    let scenes = [
+        ("knife_edge", "paper"),
+        ("knife_edge", "paper-perturbed"),
+        ("cvt_pendulum", "oscillating"),
+        ("cvt_pendulum", "rotating"),
+        ("cvt_pendulum", "oscillating-perturbed"),
+        ("cvt_pendulum", "rotating-perturbed"),
+    ];
+    let mut group = c.benchmark_group("figure_set");
+    group.sample_size(10);
+    group.bench_function("paper_six_scenes_five_methods", |b| {
+        b.iter(|| {
+            for (system, preset) in scenes {
+                let req = SceneRequest {
+                    system: system.into(),
+                    preset: Some(preset.into()),
+                    ..Default::default()
+                };
+                let scene = Scene::resolve(&req).expect("preset").prepare(None).expect("ok");
+                for m in Method::paper_five() {
+                    black_box(scene.run(&m, &RunConfig::default(), &mut Sink));
+                }
+            }
+        })
+    });
+    group.finish();
+}
+
+fn steps(c: &mut Criterion) {
+    bench_system::<KnifeEdge, 3, 1>(c);
+    bench_system::<CvtPendulum, 3, 1>(c);
+    bench_system::<Cvt, 3, 1>(c);
+    bench_system::<Particle, 3, 1>(c);
+    bench_system::<RollingDisk, 4, 2>(c);
+    bench_system::<MobileRobot, 4, 2>(c);
+}
+
+criterion_group!(benches, steps, figure_set);
+criterion_main!(benches);
