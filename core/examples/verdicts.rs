@@ -1,7 +1,9 @@
 //! Prints the paper's table as nhlab measures it: every paper scene × method × integral
 //! with its verdict and the numbers behind it. `cargo run --release -p nhlab-core --example verdicts`
 
-use nhlab_core::{Collect, Method, RunConfig, Scene, SceneRequest, classify};
+use nhlab_core::{
+    Collect, Method, MethodSpec, RunConfig, Scene, SceneRequest, classify, method_infos,
+};
 
 const SCENES: [(&str, &str); 6] = [
     ("knife_edge", "paper"),
@@ -22,7 +24,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ..Default::default()
         };
         let scene = Scene::resolve(&req)?.prepare(None)?;
-        for m in Method::paper_five() {
+        let mut methods = Method::paper_five().to_vec();
+        for info in method_infos() {
+            if !methods.iter().any(|m| m.info().id == info.id) {
+                methods.push(Method::from_spec(&MethodSpec::new(info.id))?);
+            }
+        }
+        for m in methods {
             let mut c = Collect::default();
             scene.run(&m, &RunConfig::default(), &mut c);
             for (integral, buckets) in &c.series {

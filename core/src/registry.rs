@@ -7,7 +7,8 @@
 
 use crate::latitude::LatitudeAxis;
 use crate::method::{Integrator, MethodInfo};
-use crate::methods::{Dd, Dla, Dla01, Leapfrog};
+use crate::methods::{Dd, DdAvf, Dla, Dla01, Leapfrog, Rk4};
+use crate::properties::{self, Properties};
 use crate::scene::{PreparedScene, Scene};
 use crate::simulate::{self, Observer, Problem, RunConfig, RunOutcome};
 use crate::system::{System, SystemInfo};
@@ -82,7 +83,7 @@ macro_rules! methods {
     };
 }
 
-methods!(Dla, Dla01, Leapfrog, Dd);
+methods!(Dla, Dla01, Leapfrog, Dd, DdAvf, Rk4);
 
 /// A method as a user names it: an id and parameter overrides.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -169,6 +170,7 @@ pub struct SystemEntry {
     pub(crate) residual: fn(&Scene) -> f64,
     pub(crate) latitude: fn(&Scene) -> Result<LatitudeAxis, InputError>,
     pub(crate) run: fn(&PreparedScene, &Method, &RunConfig, &mut dyn Observer) -> RunOutcome,
+    pub(crate) properties: fn(&Scene, &Method) -> Result<Properties, StepFailure>,
 }
 
 impl std::fmt::Debug for SystemEntry {
@@ -195,6 +197,13 @@ impl SystemEntry {
             latitude: |scene| {
                 let (q, v) = vectors::<N>(scene);
                 LatitudeAxis::compute(&S::new(&scene.params), &q, &v)
+            },
+            properties: |scene, method| {
+                let sys = S::new(&scene.params);
+                let (q, v) = vectors::<N>(scene);
+                let start =
+                    State::with_continuous_multiplier(&sys, q, v).ok_or(StepFailure::Singular)?;
+                properties::measure(&sys, method, start, scene.step)
             },
             run: |prepared, method, cfg, observer| {
                 let scene = &prepared.scene;

@@ -140,6 +140,15 @@ impl Scene {
         self.system.info().params.iter().map(|p| p.name).zip(self.params.iter().copied()).collect()
     }
 
+    /// Measures the reversibility and fibration preservation of `method` from this scene's
+    /// start with its step (see [`crate::properties`]).
+    pub fn properties(
+        &self,
+        method: &Method,
+    ) -> Result<crate::properties::Properties, crate::StepFailure> {
+        (self.system.properties)(self, method)
+    }
+
     /// Checks `integrals` against the system (all it has when `None`) and computes the
     /// latitude's axis when the latitude is among them.
     pub fn prepare(self, integrals: Option<&[String]>) -> Result<PreparedScene, InputError> {

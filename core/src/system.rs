@@ -152,6 +152,13 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     fn constraint_residual(&self, q: &Vector<N>, v: &Vector<N>) -> f64 {
         (self.constraint(q[N - 1]) * v).norm()
     }
+    /// The constrained ODE with the multiplier eliminated (MATH.md §1): `q̈` and `λ` at
+    /// `(q, q̇)`; `None` when `A Aᵀ` is singular.
+    #[inline]
+    fn acceleration(&self, q: &Vector<N>, v: &Vector<N>) -> Option<(Vector<N>, Vector<R>)> {
+        let lambda = self.continuous_multiplier(q, v)?;
+        Some((self.constraint(q[N - 1]).transpose() * lambda - self.gradient(q), lambda))
+    }
     /// The continuous multiplier of MATH.md §1: `A Aᵀ λ = A ∇V − Ȧ q̇`.
     fn continuous_multiplier(&self, q: &Vector<N>, v: &Vector<N>) -> Option<Vector<R>> {
         let a = self.constraint(q[N - 1]);

@@ -60,6 +60,8 @@ fn methods() -> Vec<(Method, f64)> {
         (spec("dla01"), 2.0),
         (spec("leapfrog"), 2.0),
         (spec("dd"), 2.0),
+        (spec("dd_avf"), 2.0),
+        (spec("rk4"), 4.0),
     ]
 }
 

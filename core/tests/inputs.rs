@@ -95,8 +95,8 @@ fn integral_errors() {
 
 #[test]
 fn method_errors() {
-    let e = Method::from_spec(&MethodSpec::new("rk4")).unwrap_err();
-    assert!(e.to_string().contains("dla, dla01, leapfrog, dd"), "{e}");
+    let e = Method::from_spec(&MethodSpec::new("rk5")).unwrap_err();
+    assert!(e.to_string().contains("dla, dla01, leapfrog, dd, dd_avf, rk4"), "{e}");
     let e = Method::from_spec(&MethodSpec::new("dla").with("alpha", 0.0))
         .unwrap_err()
         .within("methods[1]");

@@ -14,12 +14,20 @@ fn dla(alpha: f64) -> Method {
 
 fn constraints_every_step<S: System<N, R>, const N: usize, const R: usize>() {
     let (sys, start, h) = preset_start::<S, N, R>(0);
-    for m in [dla(0.5), dla(0.4), dla(1.0), method("dla01"), method("leapfrog"), method("dd")] {
+    for m in [
+        dla(0.5),
+        dla(0.4),
+        dla(1.0),
+        method("dla01"),
+        method("leapfrog"),
+        method("dd"),
+        method("dd_avf"),
+    ] {
         let mut st = start;
         for k in 0..2000 {
             let prev = st;
             m.step(&sys, &mut st, h).unwrap();
-            let residual = if matches!(m, Method::Dd(_)) {
+            let residual = if matches!(m, Method::Dd(_) | Method::DdAvf(_)) {
                 // DD imposes the constraint at the midpoint: A(q̄)(q̇₀ + q̇₁)/2 = 0.
                 let z_mid = 0.5 * (prev.q[N - 1] + st.q[N - 1]);
                 (sys.constraint(z_mid) * (prev.v + st.v) * 0.5).amax()
@@ -83,7 +91,8 @@ fn reversibility<S: System<N, R>, const N: usize, const R: usize>() {
         let (sys, mut start, h) = preset_start::<S, N, R>(p);
         // Also from a generic point along the trajectory, not only the symmetric start.
         for _ in 0..2 {
-            for m in [dla(0.5), method("dla01"), method("leapfrog"), method("dd")] {
+            for m in [dla(0.5), method("dla01"), method("leapfrog"), method("dd"), method("dd_avf")]
+            {
                 let d = round_trip(&sys, &m, start, h);
                 assert!(d <= 1e-11, "{} {}: not reversible, {d:e}", S::info().id, m.label());
             }

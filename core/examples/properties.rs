@@ -1,0 +1,50 @@
+//! Prints every method's measured properties on every system's presets.
+//! `cargo run --release -p nhlab-core --example properties`
+
+use nhlab_core::{Method, MethodSpec, SYSTEMS, Scene, SceneRequest, method_infos};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut methods: Vec<Method> = Method::paper_five().to_vec();
+    for info in method_infos() {
+        if !methods.iter().any(|m| m.info().id == info.id) {
+            methods.push(Method::from_spec(&MethodSpec::new(info.id))?);
+        }
+    }
+    println!(
+        "| system/preset | method | reversible | fibration | defect | driver | fiber | constraint |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    for entry in SYSTEMS {
+        for preset in entry.info().presets {
+            let req = SceneRequest {
+                system: entry.info().id.into(),
+                preset: Some(preset.id.into()),
+                ..Default::default()
+            };
+            let scene = Scene::resolve(&req)?;
+            for m in &methods {
+                match scene.properties(m) {
+                    Ok(p) => println!(
+                        "| {}/{} | {} | {} | {} | {:.1e} | {:.1e} | {:.1e} | {:.1e} |",
+                        entry.info().id,
+                        preset.id,
+                        m.label(),
+                        p.reversible,
+                        p.preserves_fibration,
+                        p.reversibility_defect,
+                        p.driver_coupling,
+                        p.fiber_coupling,
+                        p.constraint_defect
+                    ),
+                    Err(e) => println!(
+                        "| {}/{} | {} | failed: {e} |",
+                        entry.info().id,
+                        preset.id,
+                        m.label()
+                    ),
+                }
+            }
+        }
+    }
+    Ok(())
+}
