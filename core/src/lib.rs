@@ -20,6 +20,7 @@ pub mod method;
 pub mod methods;
 pub mod newton;
 pub mod properties;
+pub mod reference;
 pub mod registry;
 pub mod scene;
 pub mod simulate;

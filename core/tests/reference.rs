@@ -1,0 +1,54 @@
+//! Accuracy of the Dop853 reference solution: against the exact knife-edge and rolling-disk
+//! solutions, and by tolerance halving on the paper's CVT.
+
+use nhlab_core::reference::{TOL, reference};
+use nhlab_core::systems::{CvtPendulum, KnifeEdge, RollingDisk};
+use nhlab_core::{System, Vector};
+use std::f64::consts::FRAC_PI_2;
+
+#[test]
+fn matches_the_exact_knife_edge_solution() {
+    let sys = KnifeEdge::new(&[0.0]);
+    let t = 100.0;
+    let r = reference(
+        &sys,
+        &Vector::<3>::new(0.0, 0.0, FRAC_PI_2),
+        &Vector::<3>::new(0.0, 0.0, 1.0),
+        t,
+        TOL,
+    )
+    .unwrap();
+    let (s, c) = f64::sin_cos(t);
+    let q =
+        Vector::<3>::new(1.0 - c - s * s / 2.0, t / 2.0 + (2.0 * t).sin() / 4.0 - s, FRAC_PI_2 + t);
+    // Relative to |q| ≈ 52 at t = 100: the skate slides far down the plane.
+    let err = (r.q - q).amax() / q.amax();
+    assert!(err < 1e-11, "knife edge reference relative error {err:e}");
+    assert!(r.constraint_residual < 1e-10, "{}", r.constraint_residual);
+}
+
+#[test]
+fn matches_the_exact_rolling_disk_solution() {
+    let r = reference(
+        &RollingDisk,
+        &Vector::<4>::zeros(),
+        &Vector::<4>::new(-1.0, 0.0, 1.0, 1.0),
+        50.0,
+        TOL,
+    )
+    .unwrap();
+    let (s, c) = f64::sin_cos(50.0);
+    let err = (r.q - Vector::<4>::new(-s, c - 1.0, 50.0, 50.0)).amax();
+    assert!(err < 1e-10, "rolling disk reference error {err:e}");
+}
+
+#[test]
+fn tolerance_halving_on_the_rotating_cvt() {
+    let sys = CvtPendulum::new(&[0.5]);
+    let (q, v) = (Vector::<3>::new(1.0, 1.0, 0.0), Vector::<3>::new(0.0, 0.0, 2.828_427_12));
+    let a = reference(&sys, &q, &v, 300.0, 1e-11).unwrap();
+    let b = reference(&sys, &q, &v, 300.0, 1e-13).unwrap();
+    let d = (a.q - b.q).amax().max((a.v - b.v).amax());
+    assert!(d < 1e-7 && d > 0.0, "tolerance 1e-11 vs 1e-13 differ by {d:e}");
+    assert!(b.evaluations > a.evaluations);
+}
