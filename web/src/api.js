@@ -1,0 +1,59 @@
+// Talking to the server: the catalog (`GET /systems`) and the streamed simulation
+// (`POST /simulate` with `Accept: text/event-stream`). Browsers' EventSource only does GET,
+// so the stream is read with fetch and parsed by eventsource-parser; cancelling is aborting
+// the fetch, which closes the connection and stops the computation on the server.
+
+import { EventSourceParserStream } from 'eventsource-parser/stream';
+
+/** An error response of the API: `{"error", "path"}` with its HTTP status. */
+export class ApiError extends Error {
+  constructor(status, message, path) {
+    super(message);
+    this.name = 'ApiError';
+    this.status = status;
+    this.path = path ?? null;
+  }
+}
+
+async function errorFrom(response) {
+  let body = null;
+  try {
+    body = await response.json();
+  } catch {
+    // Not JSON (a proxy's page, say): fall back to the status line.
+  }
+  const message = body?.error ?? `${response.status} ${response.statusText || 'error'}`;
+  return new ApiError(response.status, message, body?.path);
+}
+
+/** `GET /systems`. */
+export async function fetchCatalog() {
+  const response = await fetch('systems', { headers: { Accept: 'application/json' } });
+  if (!response.ok) throw await errorFrom(response);
+  return response.json();
+}
+
+/**
+ * `POST /simulate`, streamed: calls `onEvent(name, data)` for every event until the stream
+ * ends. Rejects with an ApiError for a 4xx/5xx answer, with an AbortError when `signal` aborts.
+ */
+export async function simulate(body, { signal, onEvent }) {
+  const response = await fetch('simulate', {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json', Accept: 'text/event-stream' },
+    body: JSON.stringify(body),
+    signal,
+  });
+  if (!response.ok) throw await errorFrom(response);
+  if (!response.body) throw new Error('the server sent no stream');
+  const events = response.body
+    .pipeThrough(new TextDecoderStream())
+    .pipeThrough(new EventSourceParserStream({ onError: 'terminate' }));
+  const reader = events.getReader();
+  for (;;) {
+    const { value, done } = await reader.read();
+    if (done) return;
+    const data = value.data === '' ? null : JSON.parse(value.data);
+    onEvent(value.event ?? 'message', data);
+  }
+}

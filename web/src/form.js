@@ -1,0 +1,262 @@
+// The form: built from the /systems catalog, filled from a state, read back into one, and
+// showing errors next to the field an API error's `path` names (`params.epsilon`,
+// `methods[1].alpha`, `q[2]`, …). Every field carries a `data-path` for that lookup.
+
+import { defaultWindow, findPreset, findSystem, parseList } from './state.js';
+import { runColor } from './plots.js';
+
+const $ = (id) => document.getElementById(id);
+
+export class Form {
+  constructor(catalog) {
+    this.catalog = catalog;
+    this.el = $('form');
+    $('system').replaceChildren(...catalog.systems.map((s) => option(s.id, s.name)));
+    $('add-method-id').replaceChildren(...catalog.methods.map((m) => option(m.id, m.name)));
+  }
+
+  /** Shows a state in the form. */
+  fill(state) {
+    const system = findSystem(this.catalog, state.system);
+    $('system').value = system.id;
+    $('system-description').textContent = system.description ?? '';
+    $('preset').replaceChildren(
+      ...(system.presets ?? []).map((p) => option(p.id, p.label)),
+      option('', 'None (system defaults)'),
+    );
+    $('preset').value = state.preset;
+    this.#params(system, state.params);
+    $('q').value = state.q.map(String).join(', ');
+    $('v').value = state.v.map(String).join(', ');
+    $('q').placeholder = `${system.dof} numbers`;
+    $('v').placeholder = `${system.dof} numbers`;
+    setNumber($('step'), state.step);
+    setNumber($('t_end'), state.t_end);
+    setNumber($('points'), state.points);
+    $('methods').replaceChildren();
+    for (const m of state.methods) this.addMethod(m.id, m.params);
+    $('integrals').replaceChildren(
+      ...system.integrals.map((id) => {
+        const label = el('label', 'check');
+        const box = el('input');
+        box.type = 'checkbox';
+        box.name = 'integral';
+        box.value = id;
+        box.checked = state.integrals.includes(id);
+        label.append(box, document.createTextNode(` ${id}`));
+        return label;
+      }),
+    );
+    $('stat').value = state.stat;
+    $('smooth').checked = state.smooth;
+    setNumber($('window'), state.window);
+  }
+
+  /** Adds a method row (checked), with an input per method parameter. */
+  addMethod(id, params = {}) {
+    const info = this.catalog.methods.find((m) => m.id === id);
+    if (!info) return;
+    const row = el('div', 'method-row field');
+    const box = el('input');
+    box.type = 'checkbox';
+    box.checked = true;
+    box.className = 'method-on';
+    box.dataset.id = id;
+    box.setAttribute('aria-label', `use ${info.name}`);
+    const swatch = el('span', 'swatch');
+    const name = el('span', 'method-name', info.name);
+    name.title = [info.reference, info.order ? `order ${info.order}` : ''].filter(Boolean).join(' · ');
+    row.append(box, swatch, name);
+    for (const p of info.params ?? []) {
+      const wrap = el('label', 'method-param');
+      const input = el('input');
+      input.type = 'number';
+      input.step = 'any';
+      input.dataset.param = p.name;
+      if (Number.isFinite(p.min)) input.min = p.min;
+      if (Number.isFinite(p.max)) input.max = p.max;
+      setNumber(input, params[p.name] ?? p.default);
+      input.title = p.description ?? p.name;
+      wrap.append(document.createTextNode(`${paramSymbol(p.name)} `), input);
+      row.append(wrap);
+    }
+    const remove = el('button', 'icon', '×');
+    remove.type = 'button';
+    remove.title = 'Remove this method';
+    remove.setAttribute('aria-label', `remove ${info.name}`);
+    remove.addEventListener('click', () => {
+      row.remove();
+      this.el.dispatchEvent(new Event('change', { bubbles: true }));
+    });
+    row.append(remove);
+    $('methods').append(row);
+    this.#numberRows();
+  }
+
+  /** The preset's values for the current system and preset select (a preset change refills). */
+  presetValues() {
+    const system = findSystem(this.catalog, $('system').value);
+    return { system, preset: findPreset(system, $('preset').value) };
+  }
+
+  /** Reads the form into a state; `invalid` lists fields that do not parse ({path, message}). */
+  read() {
+    const invalid = [];
+    const number = (input, path) => {
+      if (input.value.trim() === '') return null;
+      const v = Number(input.value);
+      if (!Number.isFinite(v)) invalid.push({ path, message: 'not a number' });
+      return v;
+    };
+    const system = findSystem(this.catalog, $('system').value);
+    const params = {};
+    for (const input of $('params').querySelectorAll('input')) {
+      const v = number(input, `params.${input.name}`);
+      if (v !== null) params[input.name] = v;
+    }
+    const list = (id) => {
+      const values = parseList($(id).value);
+      if (values.some((v) => !Number.isFinite(v))) invalid.push({ path: id, message: 'comma-separated numbers, please' });
+      return values;
+    };
+    const methods = [];
+    for (const row of $('methods').querySelectorAll('.method-row')) {
+      const box = row.querySelector('.method-on');
+      if (!box.checked) continue;
+      const p = {};
+      for (const input of row.querySelectorAll('input[data-param]')) {
+        const v = number(input, `${row.dataset.path}.${input.dataset.param}`);
+        if (v !== null) p[input.dataset.param] = v;
+      }
+      methods.push({ id: box.dataset.id, params: p });
+    }
+    if (methods.length === 0) invalid.push({ path: 'methods', message: 'choose at least one method' });
+    const integrals = [...$('integrals').querySelectorAll('input:checked')].map((b) => b.value);
+    if (integrals.length === 0) invalid.push({ path: 'integrals', message: 'choose at least one integral' });
+    const state = {
+      system: system.id,
+      preset: $('preset').value,
+      params,
+      q: list('q'),
+      v: list('v'),
+      step: number($('step'), 'step'),
+      t_end: number($('t_end'), 't_end'),
+      points: number($('points'), 'points'),
+      methods,
+      integrals,
+      stat: $('stat').value,
+      smooth: $('smooth').checked,
+      window: number($('window'), 'window') ?? defaultWindow(system.id),
+      run: false,
+    };
+    return { state, invalid };
+  }
+
+  /** Shows `message` next to the field `path` names (or its closest named ancestor). */
+  showError(path, message) {
+    const target = this.#fieldFor(path ?? '');
+    const p = el('p', 'field-error', path && target ? message : message);
+    p.setAttribute('role', 'alert');
+    if (target) {
+      target.classList.add('invalid');
+      target.append(p);
+      target.scrollIntoView?.({ block: 'nearest' });
+      return true;
+    }
+    return false;
+  }
+
+  clearErrors() {
+    for (const e of this.el.querySelectorAll('.field-error')) e.remove();
+    for (const e of this.el.querySelectorAll('.invalid')) e.classList.remove('invalid');
+  }
+
+  #fieldFor(path) {
+    // methods[1].alpha → methods[1].alpha, methods[1], methods; q[2] → q; params.epsilon → params
+    let p = path;
+    while (p) {
+      const found = this.el.querySelector(`[data-path="${CSS.escape(p)}"]`);
+      if (found) return found;
+      const cut = Math.max(p.lastIndexOf('.'), p.lastIndexOf('['));
+      if (cut <= 0) break;
+      p = p.slice(0, cut);
+    }
+    return null;
+  }
+
+  // Rows are numbered as the request numbers methods: enabled rows only, in order. Swatches
+  // show the colour each enabled method will be drawn in.
+  #numberRows() {
+    let i = 0;
+    for (const row of $('methods').querySelectorAll('.method-row')) {
+      const on = row.querySelector('.method-on').checked;
+      row.classList.toggle('off', !on);
+      row.querySelector('.swatch').style.background = on ? runColor(i) : 'transparent';
+      if (on) {
+        row.dataset.path = `methods[${i}]`;
+        for (const input of row.querySelectorAll('input[data-param]')) {
+          input.closest('.method-param').dataset.path = `methods[${i}].${input.dataset.param}`;
+        }
+        i++;
+      } else {
+        delete row.dataset.path;
+      }
+    }
+  }
+
+  /** Call after any change to the method rows. */
+  renumber() {
+    this.#numberRows();
+  }
+
+  #params(system, values) {
+    const fields = system.params.map((p) => {
+      const field = el('div', 'field');
+      field.dataset.path = `params.${p.name}`;
+      const id = `param-${p.name}`;
+      const label = el('label', '', paramSymbol(p.name));
+      label.htmlFor = id;
+      const input = el('input');
+      input.type = 'number';
+      input.step = 'any';
+      input.id = id;
+      input.name = p.name;
+      if (Number.isFinite(p.min)) input.min = p.min;
+      if (Number.isFinite(p.max)) input.max = p.max;
+      setNumber(input, values[p.name] ?? p.default);
+      const range = Number.isFinite(p.min) || Number.isFinite(p.max) ? ` Range ${fmt(p.min)} … ${fmt(p.max)}.` : '';
+      field.append(label, input, el('p', 'hint', `${p.description ?? ''}.${range}`.replace(/\.\./g, '.')));
+      return field;
+    });
+    $('params').replaceChildren(...fields);
+    $('params-fieldset').hidden = fields.length === 0;
+  }
+}
+
+const SYMBOLS = { epsilon: 'ε', alpha: 'α' };
+
+function paramSymbol(name) {
+  return SYMBOLS[name] ? `${SYMBOLS[name]} (${name})` : name;
+}
+
+function fmt(v) {
+  return Number.isFinite(v) ? String(v) : v > 0 ? '∞' : '−∞';
+}
+
+function setNumber(input, v) {
+  input.value = v === null || v === undefined || Number.isNaN(v) ? '' : String(v);
+}
+
+function option(value, text) {
+  const o = document.createElement('option');
+  o.value = value;
+  o.textContent = text;
+  return o;
+}
+
+function el(tag, className, text) {
+  const e = document.createElement(tag);
+  if (className) e.className = className;
+  if (text !== undefined) e.textContent = text;
+  return e;
+}

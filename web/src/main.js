@@ -1,0 +1,237 @@
+// The page's wiring: load the catalog, restore the state from the URL, run a simulation on
+// submit (or when the URL says run=1), feed the stream into a Result and redraw the plots,
+// progress and runs table once per animation frame. Cancel aborts the fetch.
+
+import 'uplot/dist/uPlot.min.css';
+import './style.css';
+import { ApiError, fetchCatalog, simulate } from './api.js';
+import { Form } from './form.js';
+import { Plots } from './plots.js';
+import { Result } from './result.js';
+import { renderRuns } from './runs.js';
+import { EXPERIMENTS, decodeState, defaultState, encodeState, findPreset, findSystem, requestBody } from './state.js';
+
+const $ = (id) => document.getElementById(id);
+
+let catalog;
+let form;
+let plots;
+let result = null;
+let controller = null;
+let frame = 0;
+
+async function start() {
+  try {
+    catalog = await fetchCatalog();
+  } catch (e) {
+    banner($('load-error'), `Could not load the systems from the server: ${e.message}. Reload to retry.`);
+    $('run').disabled = true;
+    return;
+  }
+  form = new Form(catalog);
+  plots = new Plots($('plots'));
+  experimentButtons();
+  const { state, warnings } = decodeState(location.search, catalog);
+  form.fill(state);
+  if (warnings.length) banner($('load-error'), warnings.join('; '));
+  wire();
+  if (state.run) run();
+  else syncURL();
+}
+
+function experimentButtons() {
+  const buttons = EXPERIMENTS.filter((x) => findPreset(findSystem(catalog, x.system), x.preset)).map((x) => {
+    const preset = findPreset(findSystem(catalog, x.system), x.preset);
+    const b = document.createElement('button');
+    b.type = 'button';
+    b.className = 'experiment';
+    b.dataset.system = x.system;
+    b.dataset.preset = x.preset;
+    b.textContent = preset.label.replace(/^Paper:\s*/, '');
+    b.addEventListener('click', () => {
+      const state = defaultState(catalog, x.system, x.preset);
+      state.integrals = x.integrals;
+      state.smooth = true;
+      form.fill(state);
+      run();
+    });
+    return b;
+  });
+  $('experiments').replaceChildren(...buttons);
+}
+
+function wire() {
+  form.el.addEventListener('submit', (e) => {
+    e.preventDefault();
+    run();
+  });
+  form.el.addEventListener('change', (e) => {
+    const id = e.target.id;
+    if (id === 'system') switchSystem();
+    else if (id === 'preset') switchPreset();
+    form.renumber();
+    if (['stat', 'smooth', 'window'].includes(id)) {
+      plots.resetFloor();
+      draw();
+    }
+    syncURL();
+  });
+  $('add-method').addEventListener('click', () => {
+    form.addMethod($('add-method-id').value);
+    syncURL();
+  });
+  $('cancel').addEventListener('click', () => controller?.abort());
+  $('download-json').addEventListener('click', () => {
+    if (result) download(`${fileStem()}.json`, 'application/json', JSON.stringify(result.toJSON(), null, 1));
+  });
+  $('download-csv').addEventListener('click', () => {
+    if (result) download(`${fileStem()}.csv`, 'text/csv', result.toCSV());
+  });
+}
+
+// A new system: its first preset, defaults for integrals and window; the methods stay.
+function switchSystem() {
+  const { state: current } = form.read();
+  const next = defaultState(catalog, $('system').value);
+  next.methods = current.methods.length ? current.methods : next.methods;
+  next.stat = current.stat;
+  next.smooth = current.smooth;
+  form.fill(next);
+}
+
+// A new preset refills what presets define; methods, integrals and display stay.
+function switchPreset() {
+  const { state: current } = form.read();
+  const next = defaultState(catalog, current.system, current.preset);
+  if (current.preset === '') next.preset = '';
+  Object.assign(current, { params: next.params, q: next.q, v: next.v, step: next.step, t_end: next.t_end });
+  form.fill(current);
+}
+
+function syncURL(run = false) {
+  const { state } = form.read();
+  history.replaceState(null, '', `?${encodeState({ ...state, run }, catalog)}`);
+}
+
+async function run() {
+  form.clearErrors();
+  $('run-error').hidden = true;
+  const { state, invalid } = form.read();
+  if (invalid.length) {
+    for (const e of invalid) form.showError(e.path, e.message);
+    status('error', 'Fix the marked fields, then run again.');
+    return;
+  }
+  controller?.abort();
+  const mine = new AbortController();
+  controller = mine;
+  syncURL(true);
+  setBusy(true);
+  progress(0);
+  status('running', 'Starting…');
+  let finished = false;
+  try {
+    await simulate(requestBody(state), {
+      signal: mine.signal,
+      onEvent: (name, data) => {
+        if (controller !== mine) return;
+        if (name === 'scene') {
+          result = new Result(data);
+          plots.reset(result);
+          $('download-json').disabled = false;
+          $('download-csv').disabled = false;
+          status('running', 'Running…');
+        } else if (name === 'progress') result?.progress(data);
+        else if (name === 'points') result?.addPoints(data);
+        else if (name === 'run') result?.finishRun(data);
+        else if (name === 'done') finished = true;
+        schedule();
+      },
+    });
+    if (controller !== mine) return;
+    if (finished) {
+      const failed = result ? result.runs.filter((r) => r.status === 'failed').length : 0;
+      const total = result ? result.runs.length : 0;
+      status(failed ? 'done-failed' : 'done', failed ? `Done: ${failed} of ${total} runs failed (see below).` : `Done: ${total} runs.`);
+    } else {
+      result?.interrupt('interrupted');
+      status('error', 'The server closed the stream before the end.');
+      banner($('run-error'), 'The stream ended early: the server stopped or the connection broke. The curves show what arrived.');
+    }
+  } catch (e) {
+    if (controller !== mine) return;
+    if (e.name === 'AbortError') {
+      result?.interrupt('cancelled');
+      status('cancelled', 'Cancelled.');
+    } else if (e instanceof ApiError) {
+      const placed = form.showError(e.path, e.message);
+      const where = e.path ? ` (field ${e.path})` : '';
+      status('error', placed ? 'The server rejected a field: see the form.' : 'The server rejected the request.');
+      banner($('run-error'), `${e.message}${where}`);
+    } else {
+      result?.interrupt('interrupted');
+      status('error', 'The connection failed.');
+      banner($('run-error'), `The connection failed: ${e.message}. The curves show what arrived.`);
+    }
+  } finally {
+    if (controller === mine) {
+      controller = null;
+      setBusy(false);
+      draw();
+    }
+  }
+}
+
+function schedule() {
+  if (!frame) frame = requestAnimationFrame(draw);
+}
+
+function draw() {
+  cancelAnimationFrame(frame);
+  frame = 0;
+  if (!result) return;
+  const smooth = $('smooth').checked;
+  const window = Number($('window').value);
+  plots.update({ stat: $('stat').value, window: smooth && window > 0 ? window : 0 });
+  progress(result.fraction);
+  renderRuns($('runs'), result);
+}
+
+function progress(fraction) {
+  $('progress').value = fraction;
+  $('progress-text').textContent = `${Math.floor(fraction * 100)}%`;
+}
+
+function status(state, text) {
+  $('status').dataset.state = state;
+  $('status').textContent = text;
+}
+
+function setBusy(busy) {
+  $('run').disabled = busy;
+  $('cancel').disabled = !busy;
+  document.body.classList.toggle('busy', busy);
+}
+
+function banner(node, text) {
+  node.textContent = text;
+  node.hidden = false;
+}
+
+function fileStem() {
+  const s = result.scene;
+  return ['nhlab', s.system, s.preset].filter(Boolean).join('-');
+}
+
+function download(name, type, text) {
+  const url = URL.createObjectURL(new Blob([text], { type }));
+  const a = document.createElement('a');
+  a.href = url;
+  a.download = name;
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 1000);
+}
+
+start();

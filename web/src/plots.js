@@ -1,0 +1,192 @@
+// The plots: one uPlot chart per integral, one curve per run, log-scale errors against time.
+// Curves are redrawn from the Result on each animation frame while the stream runs. Errors
+// below FLOOR are drawn on a dashed floor line with a note (see series.js), never at -∞.
+
+import uPlot from 'uplot';
+import { FLOOR, displaySeries } from './series.js';
+
+const COLORS = ['#2563eb', '#dc2626', '#16a34a', '#9333ea', '#ea580c', '#0891b2', '#ca8a04', '#db2777', '#475569', '#65a30d'];
+
+/** The colour of run `i` (the runs table uses it too). */
+export function runColor(i) {
+  return COLORS[i % COLORS.length];
+}
+
+const INTEGRALS = {
+  energy: ['Energy H', '|H(t) − H(0)|'],
+  passenger_energy: ['Passenger energy E', '|E(t) − E(0)|'],
+  driver_energy: ['Driver energy h', '|h(t) − h(0)|'],
+  latitude: ['Latitude ℓ', '|ℓ − ℓ(0)| at the section crossings'],
+  constraint: ['Constraint residual', '|A(q) q̇|'],
+};
+
+const HEIGHT = 300;
+
+export class Plots {
+  constructor(container) {
+    this.container = container;
+    this.charts = [];
+    new ResizeObserver(() => this.#resize()).observe(container);
+  }
+
+  /** Replaces the charts by empty ones for a new result. */
+  reset(result) {
+    this.destroy();
+    this.result = result;
+    for (const integral of result.scene.integrals ?? []) {
+      const [title, subtitle] = INTEGRALS[integral] ?? [integral, 'error'];
+      const card = el('section', 'plot-card');
+      card.dataset.integral = integral;
+      const head = el('header', 'plot-head');
+      head.append(el('h3', '', title), el('span', 'plot-sub', subtitle));
+      const target = el('div', 'plot');
+      const note = el('p', 'floor-note');
+      note.hidden = true;
+      note.textContent = `Values below ${FLOOR.toExponential(0)} are shown at ${FLOOR.toExponential(0)} on the dashed line (exact within round-off).`;
+      card.append(head, target, note);
+      this.container.append(card);
+      const chart = { integral, card, note, clamped: false, u: null };
+      chart.u = new uPlot(this.#options(result, chart), emptyData(result.runs.length), target);
+      card.uplot = chart.u; // for the browser test: the drawn series
+      this.charts.push(chart);
+    }
+  }
+
+  /** Redraws every chart from the result (`view`: {stat, window}). */
+  update(view) {
+    if (!this.result) return;
+    for (const chart of this.charts) {
+      const tables = this.result.runs.map((run) => {
+        const s = run.series[chart.integral] ?? { t: [], mean: [], max: [] };
+        const d = displaySeries(s, view);
+        chart.clamped ||= d.clamped;
+        return [d.t, d.y];
+      });
+      const data = tables.length ? uPlot.join(tables) : [[]];
+      chart.note.hidden = !chart.clamped;
+      chart.u.setData(data);
+    }
+    this.#labels();
+  }
+
+  /** Clears the floor flags (a new view may clamp differently). */
+  resetFloor() {
+    for (const chart of this.charts) chart.clamped = false;
+  }
+
+  destroy() {
+    for (const chart of this.charts) {
+      chart.u.destroy();
+      chart.card.remove();
+    }
+    this.charts = [];
+    this.result = null;
+  }
+
+  // Legend labels follow the run status: a failed run says so in every legend.
+  #labels() {
+    for (const chart of this.charts) {
+      const rows = chart.u.root.querySelectorAll('.u-legend .u-series');
+      this.result.runs.forEach((run, i) => {
+        const row = rows[i + 1];
+        if (!row) return;
+        const label = row.querySelector('.u-label');
+        const text = run.status === 'failed' ? `${run.label} (failed)` : run.label;
+        if (label && label.textContent !== text) label.textContent = text;
+        row.classList.toggle('failed', run.status === 'failed');
+      });
+    }
+  }
+
+  #options(result, chart) {
+    return {
+      width: this.#width(),
+      height: HEIGHT,
+      scales: {
+        x: { time: false },
+        y: { distr: 3, log: 10, range: (u, min, max) => logRange(min, max, chart.clamped) },
+      },
+      axes: [
+        { label: 't', stroke: '#475569', grid: { stroke: '#e2e8f0' }, ticks: { stroke: '#cbd5e1' } },
+        {
+          label: 'error',
+          stroke: '#475569',
+          size: 64,
+          grid: { stroke: '#e2e8f0' },
+          ticks: { stroke: '#cbd5e1' },
+          values: (u, splits) => splits.map((v) => (isDecade(v) ? v.toExponential(0) : '')),
+        },
+      ],
+      series: [
+        { label: 't', value: (u, v) => (v === null || v === undefined ? '–' : v.toPrecision(6)) },
+        ...result.runs.map((run, i) => ({
+          label: run.label,
+          stroke: runColor(i),
+          width: 1.6,
+          points: { show: false },
+          value: (u, v) => (v === null || v === undefined ? '–' : v.toExponential(3)),
+        })),
+      ],
+      legend: { live: true },
+      cursor: { drag: { x: true, y: false } },
+      hooks: { draw: [(u) => drawFloor(u, chart)] },
+    };
+  }
+
+  #width() {
+    return Math.max(320, Math.floor(this.container.clientWidth - 34));
+  }
+
+  #resize() {
+    const width = this.#width();
+    for (const chart of this.charts) chart.u.setSize({ width, height: HEIGHT });
+  }
+}
+
+function emptyData(runs) {
+  return [[], ...Array.from({ length: runs }, () => [])];
+}
+
+// Whole decades around the data, one decade below the floor when the floor is in use so its
+// line stays visible above the axis.
+function logRange(min, max, clamped) {
+  if (!(min > 0) || !(max > 0)) return [FLOOR / 10, 1];
+  let lo = 10 ** Math.floor(Math.log10(min) + 1e-9);
+  let hi = 10 ** Math.ceil(Math.log10(max) - 1e-9);
+  if (clamped || min <= FLOOR) lo = Math.min(lo, FLOOR / 10);
+  if (hi <= lo) hi = lo * 10;
+  return [lo, hi];
+}
+
+function isDecade(v) {
+  const e = Math.log10(v);
+  return Math.abs(e - Math.round(e)) < 1e-6;
+}
+
+function drawFloor(u, chart) {
+  if (!chart.clamped) return;
+  const y = Math.round(u.valToPos(FLOOR, 'y', true));
+  const { left, width } = u.bbox;
+  const ctx = u.ctx;
+  ctx.save();
+  ctx.strokeStyle = '#64748b';
+  ctx.lineWidth = devicePixelRatio;
+  ctx.setLineDash([6 * devicePixelRatio, 4 * devicePixelRatio]);
+  ctx.beginPath();
+  ctx.moveTo(left, y);
+  ctx.lineTo(left + width, y);
+  ctx.stroke();
+  ctx.setLineDash([]);
+  ctx.fillStyle = '#64748b';
+  ctx.font = `${11 * devicePixelRatio}px system-ui, sans-serif`;
+  ctx.textAlign = 'right';
+  ctx.fillText('round-off floor', left + width - 4 * devicePixelRatio, y - 4 * devicePixelRatio);
+  ctx.restore();
+}
+
+function el(tag, className, text) {
+  const e = document.createElement(tag);
+  if (className) e.className = className;
+  if (text !== undefined) e.textContent = text;
+  return e;
+}

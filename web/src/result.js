@@ -1,0 +1,108 @@
+// The result of one simulation as it streams in: the resolved scene, then per run its status
+// and its series, built by appending the `points` events. Exported as the JSON shape of
+// `POST /simulate` (so a download equals what a script would get) and as long-format CSV.
+
+/** A label for a method the scene did not label (should not happen with our server). */
+export function methodLabel(method) {
+  if (method.label) return method.label;
+  if (method.id === 'dla') return `DLA^${method.alpha ?? 0.5}`;
+  return { dla01: 'DLA^{0,1}', leapfrog: 'LF', dd: 'DD' }[method.id] ?? method.id;
+}
+
+export class Result {
+  constructor(scene) {
+    this.scene = scene;
+    const integrals = scene.integrals ?? [];
+    this.runs = (scene.methods ?? []).map((method) => ({
+      method,
+      label: methodLabel(method),
+      status: 'running',
+      error: null,
+      steps: null,
+      elapsed_ms: null,
+      fraction: 0,
+      series: Object.fromEntries(integrals.map((i) => [i, { t: [], mean: [], max: [] }])),
+    }));
+  }
+
+  /** Appends a `points` event (scalars or arrays of new buckets). */
+  addPoints(ev) {
+    const run = this.#run(ev.run);
+    const s = (run.series[ev.integral] ??= { t: [], mean: [], max: [] });
+    for (const key of ['t', 'mean', 'max']) {
+      const v = ev[key];
+      if (Array.isArray(v)) for (const x of v) s[key].push(x);
+      else s[key].push(v);
+    }
+  }
+
+  /** Applies a `progress` event. */
+  progress(ev) {
+    const run = this.#run(ev.run);
+    if (Number.isFinite(ev.fraction)) run.fraction = Math.min(1, Math.max(0, ev.fraction));
+  }
+
+  /** Applies a `run` event (a run finished, or failed). */
+  finishRun(ev) {
+    const run = this.#run(ev.run);
+    run.status = ev.status === 'ok' ? 'ok' : 'failed';
+    run.error = ev.error ?? null;
+    run.steps = ev.steps ?? null;
+    run.elapsed_ms = ev.elapsed_ms ?? null;
+    if (run.status === 'ok') run.fraction = 1;
+  }
+
+  /** Marks runs still going as cancelled (the user pressed Cancel or the stream broke). */
+  interrupt(status) {
+    for (const run of this.runs) if (run.status === 'running') run.status = status;
+  }
+
+  /** Overall progress in [0, 1]: finished runs count as complete. */
+  get fraction() {
+    if (this.runs.length === 0) return 0;
+    const sum = this.runs.reduce((a, r) => a + (r.status === 'running' ? r.fraction : 1), 0);
+    return sum / this.runs.length;
+  }
+
+  /** The JSON response shape of `POST /simulate`. */
+  toJSON() {
+    return {
+      scene: this.scene,
+      runs: this.runs.map((r) => ({
+        method: r.method,
+        status: r.status,
+        error: r.error,
+        steps: r.steps,
+        elapsed_ms: r.elapsed_ms,
+        series: r.series,
+      })),
+    };
+  }
+
+  /** One row per bucket: run, method, status, integral, t, mean, max. */
+  toCSV() {
+    const rows = ['run,method,status,integral,t,mean,max'];
+    this.runs.forEach((r, i) => {
+      for (const [integral, s] of Object.entries(r.series)) {
+        for (let k = 0; k < s.t.length; k++) {
+          rows.push([i, csvField(r.label), r.status, integral, num(s.t[k]), num(s.mean[k]), num(s.max[k])].join(','));
+        }
+      }
+    });
+    return rows.join('\n') + '\n';
+  }
+
+  #run(index) {
+    const run = this.runs[index];
+    if (!run) throw new Error(`the server sent an event for run ${index}, but the scene has ${this.runs.length} runs`);
+    return run;
+  }
+}
+
+function num(v) {
+  return v === null || v === undefined ? '' : String(v);
+}
+
+function csvField(s) {
+  return /[",\n]/.test(s) ? `"${s.replace(/"/g, '""')}"` : s;
+}

@@ -1,0 +1,193 @@
+// The page state and its URL form, so a link reproduces a plot. The query string holds the
+// system and preset always, and every other field only where it differs from what the preset
+// (or the page) would choose, which keeps the paper's links short:
+//   ?system=knife_edge&preset=paper-perturbed&smooth=1&run=1
+// Methods are written `id` or `id:p1:p2` (parameters in the order /systems lists them), e.g.
+// `methods=dla:0.5,dla:0.4,dla01,leapfrog,dd`. Pure functions over the /systems catalog.
+
+/** The paper's five methods (the API's default too). */
+export const PAPER_METHODS = [
+  { id: 'dla', params: { alpha: 0.5 } },
+  { id: 'dla', params: { alpha: 0.4 } },
+  { id: 'dla01', params: {} },
+  { id: 'leapfrog', params: {} },
+  { id: 'dd', params: {} },
+];
+
+/** The paper's six experiments: a preset and the integrals its figures show. */
+export const EXPERIMENTS = [
+  { system: 'knife_edge', preset: 'paper', integrals: ['energy'] },
+  { system: 'knife_edge', preset: 'paper-perturbed', integrals: ['energy'] },
+  ...['oscillating', 'rotating', 'oscillating-perturbed', 'rotating-perturbed'].map((preset) => ({
+    system: 'cvt_pendulum',
+    preset,
+    integrals: ['passenger_energy', 'driver_energy', 'latitude'],
+  })),
+];
+
+/** The paper's running-mean windows (time units). */
+const PAPER_WINDOWS = { knife_edge: 3, cvt: 30, cvt_pendulum: 30 };
+
+/** The default running-mean window for a system: the paper's, else a hundredth of t_end. */
+export function defaultWindow(systemId, tEnd) {
+  if (systemId in PAPER_WINDOWS) return PAPER_WINDOWS[systemId];
+  const w = (tEnd ?? 100) / 100;
+  return Number(w.toPrecision(1));
+}
+
+export function findSystem(catalog, id) {
+  return catalog.systems.find((s) => s.id === id);
+}
+
+export function findPreset(system, id) {
+  return system?.presets?.find((p) => p.id === id);
+}
+
+/** The state the page starts from for a system and preset (the preset's values, the paper's methods). */
+export function defaultState(catalog, systemId, presetId) {
+  const system = findSystem(catalog, systemId) ?? catalog.systems[0];
+  const preset = findPreset(system, presetId) ?? system.presets?.[0];
+  const params = Object.fromEntries(system.params.map((p) => [p.name, p.default]));
+  Object.assign(params, preset?.params ?? {});
+  const known = new Set(catalog.methods.map((m) => m.id));
+  return {
+    system: system.id,
+    preset: preset?.id ?? '',
+    params,
+    q: preset?.q ? [...preset.q] : [],
+    v: preset?.v ? [...preset.v] : [],
+    step: preset?.step ?? null,
+    t_end: preset?.t_end ?? null,
+    points: 1000,
+    methods: PAPER_METHODS.filter((m) => known.has(m.id)).map((m) => ({ id: m.id, params: { ...m.params } })),
+    integrals: [...system.integrals],
+    stat: 'mean',
+    smooth: false,
+    window: defaultWindow(system.id, preset?.t_end),
+    run: false,
+  };
+}
+
+/** The query string for a state (without `?`). */
+export function encodeState(state, catalog) {
+  const d = defaultState(catalog, state.system, state.preset);
+  const out = [['system', state.system], ['preset', state.preset]];
+  for (const [name, value] of Object.entries(state.params)) {
+    if (!sameNumber(value, d.params[name])) out.push([`param.${name}`, num(value)]);
+  }
+  for (const key of ['q', 'v']) {
+    if (list(state[key]) !== list(d[key])) out.push([key, list(state[key])]);
+  }
+  for (const key of ['step', 't_end', 'points']) {
+    if (!sameNumber(state[key], d[key])) out.push([key, num(state[key])]);
+  }
+  const methods = encodeMethods(state.methods, catalog);
+  if (methods !== encodeMethods(d.methods, catalog)) out.push(['methods', methods]);
+  if (state.integrals.join(',') !== d.integrals.join(',')) out.push(['integrals', state.integrals.join(',')]);
+  if (state.stat !== d.stat) out.push(['stat', state.stat]);
+  if (state.smooth) out.push(['smooth', '1']);
+  if (!sameNumber(state.window, d.window)) out.push(['window', num(state.window)]);
+  if (state.run) out.push(['run', '1']);
+  // Commas and colons are legal in a query; leaving them unescaped keeps links readable.
+  return out
+    .map(([k, v]) => `${esc(k)}=${esc(v)}`)
+    .join('&');
+}
+
+/**
+ * The state a query string describes, with `warnings` for what it could not use (an unknown
+ * system or method). Numbers that do not parse are kept as NaN for the server to reject.
+ */
+export function decodeState(query, catalog) {
+  const p = new URLSearchParams(query);
+  const warnings = [];
+  let systemId = p.get('system');
+  if (systemId !== null && !findSystem(catalog, systemId)) {
+    warnings.push(`unknown system "${systemId}" in the link; showing ${catalog.systems[0].id}`);
+    systemId = null;
+  }
+  const system = findSystem(catalog, systemId) ?? catalog.systems[0];
+  let presetId = p.get('preset');
+  if (presetId !== null && presetId !== '' && !findPreset(system, presetId)) {
+    warnings.push(`unknown preset "${presetId}" for ${system.id} in the link; showing the first preset`);
+    presetId = null;
+  }
+  const state = defaultState(catalog, system.id, presetId);
+  if (presetId === '') state.preset = '';
+  for (const [key, value] of p) {
+    if (key.startsWith('param.')) state.params[key.slice(6)] = Number(value);
+  }
+  for (const key of ['q', 'v']) if (p.has(key)) state[key] = parseList(p.get(key));
+  for (const key of ['step', 't_end', 'points']) if (p.has(key)) state[key] = Number(p.get(key));
+  if (p.has('methods')) state.methods = decodeMethods(p.get('methods'), catalog, warnings);
+  if (p.has('integrals')) state.integrals = p.get('integrals').split(',').filter(Boolean);
+  if (p.get('stat') === 'max') state.stat = 'max';
+  state.smooth = p.get('smooth') === '1';
+  if (p.has('window')) state.window = Number(p.get('window'));
+  state.run = p.get('run') === '1';
+  return { state, warnings };
+}
+
+/** The body of `POST /simulate` for a state. */
+export function requestBody(state) {
+  const body = { system: state.system };
+  if (state.preset) body.preset = state.preset;
+  body.params = { ...state.params };
+  // Unset fields (empty inputs) are left to the preset.
+  for (const key of ['q', 'v']) if (state[key]?.length) body[key] = state[key];
+  for (const key of ['step', 't_end']) if (state[key] !== null && state[key] !== undefined) body[key] = state[key];
+  body.methods = state.methods.map((m) => ({ id: m.id, ...m.params }));
+  body.integrals = state.integrals;
+  body.points = state.points;
+  return body;
+}
+
+export function parseList(text) {
+  const t = String(text).trim();
+  if (t === '') return [];
+  return t.split(/[\s,;]+/).filter(Boolean).map(Number);
+}
+
+function encodeMethods(methods, catalog) {
+  return methods
+    .map((m) => {
+      const info = catalog.methods.find((x) => x.id === m.id);
+      const values = (info?.params ?? []).map((p) => num(m.params[p.name] ?? p.default));
+      return [m.id, ...values].join(':');
+    })
+    .join(',');
+}
+
+function decodeMethods(text, catalog, warnings) {
+  const out = [];
+  for (const item of text.split(',').filter(Boolean)) {
+    const [id, ...values] = item.split(':');
+    const info = catalog.methods.find((x) => x.id === id);
+    if (!info) {
+      warnings.push(`unknown method "${id}" in the link; left out`);
+      continue;
+    }
+    const params = {};
+    info.params.forEach((p, i) => {
+      params[p.name] = i < values.length ? Number(values[i]) : p.default;
+    });
+    out.push({ id, params });
+  }
+  return out;
+}
+
+function num(v) {
+  return v === null || v === undefined ? '' : String(v);
+}
+
+function list(a) {
+  return (a ?? []).map(num).join(',');
+}
+
+function sameNumber(a, b) {
+  return num(a) === num(b);
+}
+
+function esc(s) {
+  return encodeURIComponent(s).replace(/%2C/g, ',').replace(/%3A/g, ':');
+}

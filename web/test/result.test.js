@@ -1,0 +1,50 @@
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import { Result, methodLabel } from '../src/result.js';
+
+const scene = {
+  system: 'knife_edge',
+  preset: 'paper',
+  integrals: ['energy'],
+  methods: [{ id: 'dla', alpha: 0.4, label: 'DLA^0.4' }, { id: 'dd', label: 'DD' }],
+};
+
+test('points events concatenate into series, scalars or arrays', () => {
+  const r = new Result(scene);
+  r.addPoints({ run: 0, integral: 'energy', t: [1, 2], mean: [0.1, 0.2], max: [0.2, 0.3] });
+  r.addPoints({ run: 0, integral: 'energy', t: 3, mean: 0.3, max: 0.4 });
+  assert.deepEqual(r.runs[0].series.energy, { t: [1, 2, 3], mean: [0.1, 0.2, 0.3], max: [0.2, 0.3, 0.4] });
+});
+
+test('progress counts finished runs as complete and reaches 1', () => {
+  const r = new Result(scene);
+  r.progress({ run: 0, t: 50, fraction: 0.5 });
+  assert.equal(r.fraction, 0.25);
+  r.finishRun({ run: 0, status: 'failed', error: 'Newton did not converge at t = 3', steps: 10, elapsed_ms: 1 });
+  r.finishRun({ run: 1, status: 'ok', error: null, steps: 318, elapsed_ms: 2 });
+  assert.equal(r.fraction, 1);
+  assert.equal(r.runs[0].status, 'failed');
+  assert.equal(r.toJSON().runs[0].error, 'Newton did not converge at t = 3');
+});
+
+test('an event for a run the scene lacks is an error, not silence', () => {
+  assert.throws(() => new Result(scene).addPoints({ run: 5, integral: 'energy', t: 1, mean: 0, max: 0 }), /run 5/);
+});
+
+test('cancel marks only unfinished runs', () => {
+  const r = new Result(scene);
+  r.finishRun({ run: 1, status: 'ok', steps: 1, elapsed_ms: 1 });
+  r.interrupt('cancelled');
+  assert.deepEqual(r.runs.map((x) => x.status), ['cancelled', 'ok']);
+});
+
+test('CSV has one row per bucket, labels quoted when needed', () => {
+  const r = new Result({ ...scene, methods: [{ id: 'x', label: 'a,b' }] });
+  r.addPoints({ run: 0, integral: 'energy', t: [1, 2], mean: [0, 1e-3], max: [0, 2e-3] });
+  assert.equal(r.toCSV(), 'run,method,status,integral,t,mean,max\n0,"a,b",running,energy,1,0,0\n0,"a,b",running,energy,2,0.001,0.002\n');
+});
+
+test('labels fall back to the paper names', () => {
+  assert.equal(methodLabel({ id: 'dla', alpha: 0.4 }), 'DLA^0.4');
+  assert.equal(methodLabel({ id: 'leapfrog' }), 'LF');
+});

@@ -1,0 +1,73 @@
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import { decodeState, defaultState, encodeState, requestBody } from '../src/state.js';
+
+const catalog = {
+  systems: [
+    {
+      id: 'knife_edge',
+      dof: 3,
+      params: [{ name: 'epsilon', default: 0, min: -1, max: 1 }],
+      integrals: ['energy', 'passenger_energy', 'driver_energy', 'constraint'],
+      presets: [
+        { id: 'paper', label: 'Paper: ε = 0', params: { epsilon: 0 }, q: [0, 0, 1.5707963267948966], v: [0, 0, 1], step: 0.3141592653589793, t_end: 100 },
+        { id: 'paper-perturbed', label: 'Paper: ε = 0.1', params: { epsilon: 0.1 }, q: [0, 0, 1.5707963267948966], v: [0, 0, 1], step: 0.3141592653589793, t_end: 100 },
+      ],
+    },
+    { id: 'cvt_pendulum', dof: 3, params: [{ name: 'epsilon', default: 0, min: -10, max: 10 }], integrals: ['energy', 'latitude'], presets: [{ id: 'rotating', params: { epsilon: 0 }, q: [1, 1, 0], v: [0, 0, 2.8], step: 0.1, t_end: 3000 }] },
+  ],
+  methods: [
+    { id: 'dla', params: [{ name: 'alpha', default: 0.5 }] },
+    { id: 'dla01', params: [] },
+    { id: 'leapfrog', params: [] },
+    { id: 'dd', params: [] },
+  ],
+};
+
+test('a preset with defaults encodes to a short link', () => {
+  const s = defaultState(catalog, 'knife_edge', 'paper-perturbed');
+  assert.equal(encodeState(s, catalog), 'system=knife_edge&preset=paper-perturbed');
+  assert.equal(s.params.epsilon, 0.1);
+  assert.equal(s.window, 3);
+  assert.equal(defaultState(catalog, 'cvt_pendulum').window, 30);
+  assert.deepEqual(s.methods.map((m) => m.id), ['dla', 'dla', 'dla01', 'leapfrog', 'dd']);
+});
+
+test('every field survives the round trip through the URL', () => {
+  const s = defaultState(catalog, 'knife_edge', 'paper');
+  Object.assign(s, {
+    params: { epsilon: 0.25 },
+    q: [0, 1e-3, 1.5],
+    v: [0, 0, -1],
+    step: 0.01,
+    t_end: 1e4,
+    points: 200,
+    methods: [{ id: 'dla', params: { alpha: 0.3 } }, { id: 'dla', params: { alpha: 0.5 } }, { id: 'dd', params: {} }],
+    integrals: ['energy', 'constraint'],
+    stat: 'max',
+    smooth: true,
+    window: 7.5,
+    run: true,
+  });
+  const query = encodeState(s, catalog);
+  assert.match(query, /methods=dla:0.3,dla:0.5,dd/);
+  const { state, warnings } = decodeState(query, catalog);
+  assert.deepEqual(warnings, []);
+  assert.deepEqual(state, s);
+});
+
+test('unknown names in a link are reported, not silently used', () => {
+  const { state, warnings } = decodeState('system=nope&methods=dla:0.4,rk4', catalog);
+  assert.equal(state.system, 'knife_edge');
+  assert.deepEqual(state.methods, [{ id: 'dla', params: { alpha: 0.4 } }]);
+  assert.equal(warnings.length, 2);
+});
+
+test('the request body uses the API names', () => {
+  const s = defaultState(catalog, 'knife_edge', 'paper');
+  const body = requestBody(s);
+  assert.deepEqual(body.methods.slice(0, 2), [{ id: 'dla', alpha: 0.5 }, { id: 'dla', alpha: 0.4 }]);
+  assert.equal(body.system, 'knife_edge');
+  assert.equal(body.preset, 'paper');
+  assert.equal(body.points, 1000);
+});
