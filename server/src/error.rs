@@ -1,0 +1,116 @@
+//! [`AppError`]: every error the API returns, as `{"error": "...", "path": "methods[1].alpha"}`
+//! with a fitting status: 400 for a body that is not the JSON we read (syntax, types,
+//! unknown fields), 422 for well-formed input that is wrong (unknown names, lengths,
+//! ranges, limits), 413 for an oversized body, 500 for our own faults.
+
+use axum::Json;
+use axum::extract::rejection::BytesRejection;
+use axum::http::StatusCode;
+use axum::response::{IntoResponse, Response};
+use nhlab_core::InputError;
+use serde::Serialize;
+use utoipa::ToSchema;
+
+/// An error response.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AppError {
+    /// HTTP status.
+    pub status: StatusCode,
+    /// What is wrong and what is allowed.
+    pub message: String,
+    /// The offending field of the request body, e.g. `methods[1].alpha`; `None` when the
+    /// error concerns no one field.
+    pub path: Option<String>,
+}
+
+/// The JSON body of an error.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct ErrorBody {
+    /// What is wrong and what is allowed.
+    pub error: String,
+    /// The offending field, e.g. `methods[1].alpha` (null when no one field is at fault).
+    pub path: Option<String>,
+}
+
+impl AppError {
+    /// A 422 about the field at `path`.
+    pub fn invalid(path: impl Into<String>, message: impl Into<String>) -> Self {
+        Self {
+            status: StatusCode::UNPROCESSABLE_ENTITY,
+            message: message.into(),
+            path: Some(path.into()),
+        }
+    }
+
+    /// A 500: our fault, not the request's.
+    pub fn internal(message: impl Into<String>) -> Self {
+        Self { status: StatusCode::INTERNAL_SERVER_ERROR, message: message.into(), path: None }
+    }
+
+    /// A 404 for a path the server does not serve.
+    pub fn not_found(path: &str) -> Self {
+        Self {
+            status: StatusCode::NOT_FOUND,
+            message: format!(
+                "no such resource: {path}; the API is GET /systems, POST /simulate, \
+                 GET /openapi.json, GET /health, and the page is at /"
+            ),
+            path: None,
+        }
+    }
+}
+
+impl From<InputError> for AppError {
+    fn from(e: InputError) -> Self {
+        Self::invalid(e.field(), e.to_string())
+    }
+}
+
+impl From<serde_path_to_error::Error<serde_json::Error>> for AppError {
+    fn from(e: serde_path_to_error::Error<serde_json::Error>) -> Self {
+        let inner = e.inner();
+        let message = inner.to_string();
+        let mut path = e.path().to_string();
+        // serde reports a missing or unknown field at the object holding it; point at the
+        // field itself.
+        // (An unknown field is already in the path.)
+        if let Some(field) = backticked(&message, "missing field `") {
+            path = if path == "." { field.to_owned() } else { format!("{path}.{field}") };
+        }
+        // serde_path_to_error writes `.` for the root and `?` for an unknown position.
+        let path = (!matches!(path.as_str(), "." | "?")).then_some(path);
+        let hint = if message.starts_with("number out of range") {
+            "numbers must be finite (|x| < 1.8e308): "
+        } else if inner.is_syntax() || inner.is_eof() {
+            "malformed JSON (the body must be a JSON object such as \
+             {\"system\": \"knife_edge\"}; NaN and Infinity are not JSON): "
+        } else {
+            ""
+        };
+        Self { status: StatusCode::BAD_REQUEST, message: format!("{hint}{message}"), path }
+    }
+}
+
+impl AppError {
+    /// The error of a body that could not be read (too large: 413 naming the limit).
+    pub fn body(e: BytesRejection, max_body_bytes: usize) -> Self {
+        let message = if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
+            format!("the request body exceeds the limit of {max_body_bytes} bytes")
+        } else {
+            e.body_text()
+        };
+        Self { status: e.status(), message, path: None }
+    }
+}
+
+fn backticked<'a>(message: &'a str, prefix: &str) -> Option<&'a str> {
+    let rest = message.strip_prefix(prefix)?;
+    rest.split('`').next()
+}
+
+impl IntoResponse for AppError {
+    fn into_response(self) -> Response {
+        let body = ErrorBody { error: self.message, path: self.path };
+        (self.status, Json(body)).into_response()
+    }
+}

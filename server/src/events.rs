@@ -1,0 +1,71 @@
+//! The payloads of the stream's server-sent events, in order: `scene` (a [`SceneView`],
+//! once), then per run any number of `progress` and `points`, one `run`, and `done` last.
+//! Concatenating a run's `points` for an integral gives the JSON response's series exactly.
+//!
+//! [`SceneView`]: crate::SceneView
+
+use crate::{MethodView, SeriesView, Status};
+use axum::response::sse::Event;
+use serde::Serialize;
+use utoipa::ToSchema;
+
+/// `progress`: how far a run is (a few per second per run).
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct ProgressEvent {
+    /// Run index (the method's place in `scene.methods`).
+    pub run: usize,
+    /// Time reached.
+    pub t: f64,
+    /// Steps done over steps planned, in [0, 1].
+    pub fraction: f64,
+    /// Steps done.
+    pub steps: u64,
+}
+
+/// `points`: the buckets of one series completed since the last `points` of that series.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct PointsEvent {
+    /// Run index.
+    pub run: usize,
+    /// Integral id.
+    pub integral: String,
+    /// The new buckets, as columns `t`, `mean`, `max`.
+    #[serde(flatten)]
+    pub series: SeriesView,
+}
+
+/// `run`: a run ended.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct RunEvent {
+    /// Run index.
+    pub run: usize,
+    /// The method.
+    pub method: MethodView,
+    /// `ok` or `failed`.
+    pub status: Status,
+    /// Why it failed, or null.
+    pub error: Option<String>,
+    /// Steps completed.
+    pub steps: u64,
+    /// The run's own compute time, in milliseconds.
+    pub elapsed_ms: f64,
+}
+
+/// `done`: every run has ended; the stream closes.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct DoneEvent {
+    /// Number of runs.
+    pub runs: usize,
+    /// How many failed.
+    pub failed: usize,
+    /// Wall-clock time of the whole request, in milliseconds.
+    pub elapsed_ms: f64,
+}
+
+/// An event named `name` carrying `data` as JSON.
+pub fn event<T: Serialize>(name: &str, data: &T) -> Event {
+    Event::default().event(name).json_data(data).unwrap_or_else(|e| {
+        let message = format!("could not serialize the {name} event: {e}");
+        Event::default().event("error").data(serde_json::json!({ "error": message }).to_string())
+    })
+}

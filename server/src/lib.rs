@@ -1,0 +1,82 @@
+//! nhlab-server: nhlab's HTTP API and page.
+//!
+//! `GET /systems` lists what can be simulated; `POST /simulate` runs methods on a scene and
+//! answers with the error series of the first integrals, as one JSON document or as
+//! server-sent events ([`stream()`]); `GET /openapi.json` describes it all; `GET /health`;
+//! `/` serves the embedded page. [`app`] builds the router, so tests run it in-process.
+//!
+//! Simulations never run on the async runtime: each method of a request is one task on the
+//! blocking pool ([`Runner`]), all in parallel, stopped through a [`Cancel`] flag when the
+//! client goes away. [`Config`] holds the limits.
+#![warn(missing_docs)]
+
+mod collector;
+mod config;
+mod error;
+pub mod events;
+mod health;
+pub mod openapi;
+mod page;
+mod plan;
+mod reporter;
+mod request;
+mod run_view;
+pub mod runner;
+mod scene_view;
+mod series_view;
+mod simulate;
+mod state;
+mod stream;
+mod systems;
+
+pub use collector::Collector;
+pub use config::Config;
+pub use error::{AppError, ErrorBody};
+pub use health::{Health, health};
+pub use openapi::{ApiDoc, openapi_json};
+pub use page::{Page, page};
+pub use plan::{Delivery, Plan};
+pub use reporter::Reporter;
+pub use request::{MethodRequest, SimulateRequest};
+pub use run_view::{RunView, Status};
+pub use runner::{Cancel, CancelOnDrop, Runner};
+pub use scene_view::{MethodView, SceneView};
+pub use series_view::SeriesView;
+pub use simulate::{SimulateResponse, simulate};
+pub use state::AppState;
+pub use stream::stream;
+pub use systems::{
+    LimitsView, MethodInfoView, ParamView, PresetView, SystemView, SystemsResponse, systems,
+};
+
+use axum::Router;
+use axum::body::Body;
+use axum::extract::DefaultBodyLimit;
+use axum::http::Request;
+use axum::routing::{get, post};
+use tower_http::LatencyUnit;
+use tower_http::trace::{DefaultOnResponse, TraceLayer};
+use tracing::Level;
+
+/// The whole app: API, page and request logging (one line per request).
+pub fn app(state: AppState) -> Router {
+    let trace = TraceLayer::new_for_http()
+        .make_span_with(|req: &Request<Body>| {
+            tracing::info_span!(
+                "request",
+                method = %req.method(),
+                uri = %req.uri(),
+                scene = tracing::field::Empty,
+            )
+        })
+        .on_response(DefaultOnResponse::new().level(Level::INFO).latency_unit(LatencyUnit::Millis));
+    Router::new()
+        .route("/health", get(health))
+        .route("/systems", get(systems))
+        .route("/simulate", post(simulate))
+        .route("/openapi.json", get(openapi_json))
+        .fallback(page)
+        .layer(DefaultBodyLimit::max(state.config.max_body_bytes))
+        .layer(trace)
+        .with_state(state)
+}

@@ -1,0 +1,101 @@
+//! [`ApiDoc`]: the OpenAPI document served at `GET /openapi.json`. Ids (systems, methods,
+//! integrals) are listed as enums and parameter bounds as minimum/maximum, taken from the
+//! core's registry, so a fuzzer generates meaningful bodies.
+
+use crate::events::{DoneEvent, PointsEvent, ProgressEvent, RunEvent};
+use crate::{ErrorBody, SceneView};
+use axum::Json;
+use utoipa::OpenApi;
+
+/// The API's OpenAPI document.
+#[derive(OpenApi)]
+#[openapi(
+    info(
+        title = "nhlab",
+        description = "Long-time behaviour of nonholonomic integrators (Modin & Verdier): \
+            test systems, the integrators of the literature and the error of every first \
+            integral over time."
+    ),
+    paths(crate::simulate::simulate, crate::systems::systems, crate::health::health, openapi_json),
+    components(schemas(SceneView, ProgressEvent, PointsEvent, RunEvent, DoneEvent, ErrorBody))
+)]
+pub struct ApiDoc;
+
+/// This document.
+#[utoipa::path(get, path = "/openapi.json", responses((status = 200, description = "OpenAPI 3.1 document")))]
+pub async fn openapi_json() -> Json<utoipa::openapi::OpenApi> {
+    Json(ApiDoc::openapi())
+}
+
+/// Schemas built from the registry (used through `#[schema(schema_with = …)]`).
+pub(crate) mod schemas {
+    use crate::Config;
+    use nhlab_core::{Integral, ParamSpec, SYSTEMS, method_infos};
+    use utoipa::openapi::RefOr;
+    use utoipa::openapi::schema::{
+        AdditionalProperties, ArrayBuilder, ObjectBuilder, OneOfBuilder, Schema, Type,
+    };
+
+    fn strings(values: Vec<&'static str>) -> ObjectBuilder {
+        ObjectBuilder::new().schema_type(Type::String).enum_values(Some(values))
+    }
+
+    fn number() -> ObjectBuilder {
+        ObjectBuilder::new().schema_type(Type::Number)
+    }
+
+    fn bounded(p: &ParamSpec) -> ObjectBuilder {
+        let mut n = number().description(Some(p.description)).default(Some(p.default.into()));
+        if p.min.is_finite() {
+            n = if p.min_open { n.exclusive_minimum(Some(p.min)) } else { n.minimum(Some(p.min)) };
+        }
+        if p.max.is_finite() {
+            n = if p.max_open { n.exclusive_maximum(Some(p.max)) } else { n.maximum(Some(p.max)) };
+        }
+        n
+    }
+
+    /// `system`: one of the registry's ids.
+    pub fn system_id() -> ObjectBuilder {
+        strings(SYSTEMS.iter().map(|s| s.info().id).collect())
+            .description(Some("System id (see GET /systems)"))
+    }
+
+    /// `params`: numbers by name.
+    pub fn params() -> ObjectBuilder {
+        ObjectBuilder::new()
+            .schema_type(Type::Object)
+            .additional_properties(Some(AdditionalProperties::RefOr(RefOr::T(Schema::Object(
+                number().build(),
+            )))))
+            .description(Some("Parameter overrides by name, e.g. {\"epsilon\": 0.5}"))
+    }
+
+    /// `integrals`: a non-empty list of integral ids.
+    pub fn integrals() -> ArrayBuilder {
+        ArrayBuilder::new()
+            .items(strings(Integral::ALL.map(Integral::id).to_vec()))
+            .min_items(Some(1))
+    }
+
+    /// `methods`: a non-empty list of method ids or `{"id": …, param: value}` objects.
+    pub fn methods() -> ArrayBuilder {
+        let infos = method_infos();
+        let mut one_of = OneOfBuilder::new().item(strings(infos.iter().map(|m| m.id).collect()));
+        for m in &infos {
+            let mut object = ObjectBuilder::new()
+                .schema_type(Type::Object)
+                .property("id", strings(vec![m.id]))
+                .required("id")
+                .additional_properties(Some(AdditionalProperties::FreeForm(false)));
+            for p in m.params {
+                object = object.property(p.name, bounded(p));
+            }
+            one_of = one_of.item(object);
+        }
+        ArrayBuilder::new()
+            .items(one_of)
+            .min_items(Some(1))
+            .max_items(Some(Config::default().max_methods))
+    }
+}

@@ -1,0 +1,143 @@
+//! [`Plan`]: a `/simulate` request resolved and checked against the core and the limits,
+//! ready to run. Every error names the field at fault.
+
+use crate::{AppError, Config, MethodRequest, SceneView, SimulateRequest};
+use nhlab_core::{InputError, Method, MethodSpec, PreparedScene, Scene, SceneRequest};
+use std::sync::Arc;
+
+/// How the result goes back: the limits differ.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Delivery {
+    /// One JSON response at the end.
+    Json,
+    /// Server-sent events as the runs go.
+    Stream,
+}
+
+/// A checked request.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// The scene, shared by the runs.
+    pub prepared: Arc<PreparedScene>,
+    /// The methods, one run each.
+    pub methods: Vec<Method>,
+    /// Buckets per series.
+    pub points: usize,
+    /// The resolved scene as reported.
+    pub scene: SceneView,
+}
+
+impl Plan {
+    /// Resolves and checks `req`.
+    pub fn resolve(
+        req: &SimulateRequest,
+        config: &Config,
+        delivery: Delivery,
+    ) -> Result<Self, AppError> {
+        let scene = Scene::resolve(&SceneRequest {
+            system: req.system.clone(),
+            preset: req.preset.clone(),
+            params: req.params.iter().flatten().map(|(n, v)| (n.clone(), *v)).collect(),
+            q: req.q.clone(),
+            v: req.v.clone(),
+            step: req.step,
+            t_end: req.t_end,
+        })?;
+        check_steps(&scene, config, delivery)?;
+        let methods = methods(req.methods.as_deref(), config)?;
+        let points = points(req.points, config)?;
+        let prepared = match &req.integrals {
+            None => scene.prepare(None)?,
+            Some(names) if names.is_empty() => {
+                return Err(AppError::invalid(
+                    "integrals",
+                    "integrals must not be empty; leave it out to measure all the system has",
+                ));
+            }
+            Some(names) => scene.prepare(Some(names)).map_err(|e| integral_error(e, names))?,
+        };
+        let scene = SceneView::of(&prepared, &methods, points);
+        Ok(Self { prepared: Arc::new(prepared), methods, points, scene })
+    }
+}
+
+fn check_steps(scene: &Scene, config: &Config, delivery: Delivery) -> Result<(), AppError> {
+    let steps = scene.steps();
+    let (limit, how) = match delivery {
+        Delivery::Json => (
+            config.max_steps_json,
+            format!(
+                "a JSON response; a stream (Accept: text/event-stream) allows {}",
+                config.max_steps_stream
+            ),
+        ),
+        Delivery::Stream => (config.max_steps_stream, "a stream".to_owned()),
+    };
+    if steps > limit {
+        return Err(AppError::invalid(
+            "t_end",
+            format!(
+                "t_end / step = {} / {} = {steps} steps per run exceeds the limit of {limit} \
+                 steps for {how}; shorten t_end or lengthen step",
+                scene.t_end, scene.step
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn methods(given: Option<&[MethodRequest]>, config: &Config) -> Result<Vec<Method>, AppError> {
+    let Some(given) = given else {
+        return Ok(Method::paper_five().to_vec());
+    };
+    if given.is_empty() {
+        return Err(AppError::invalid(
+            "methods",
+            "methods must not be empty; leave it out to run the paper's five",
+        ));
+    }
+    if given.len() > config.max_methods {
+        return Err(AppError::invalid(
+            "methods",
+            format!(
+                "{} methods exceed the limit of {} per request",
+                given.len(),
+                config.max_methods
+            ),
+        ));
+    }
+    given
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let spec = MethodSpec { id: m.id.clone(), params: m.params.clone() };
+            Method::from_spec(&spec).map_err(|e| AppError::from(e.within(&format!("methods[{i}]"))))
+        })
+        .collect()
+}
+
+fn points(given: Option<i64>, config: &Config) -> Result<usize, AppError> {
+    let points = given.unwrap_or(1000);
+    if points < 1 || points as u64 > config.max_points {
+        return Err(AppError::invalid(
+            "points",
+            format!("points must be between 1 and {}, got {points}", config.max_points),
+        ));
+    }
+    usize::try_from(points).map_err(|_| AppError::invalid("points", "points is too large"))
+}
+
+/// Points an integral error at the offending entry of the list.
+fn integral_error(e: InputError, names: &[String]) -> AppError {
+    let name = match &e {
+        InputError::UnknownIntegral { name, .. } => Some(name),
+        InputError::IntegralUnavailable { integral, .. } => Some(integral),
+        _ => None,
+    };
+    let index = name.and_then(|n| names.iter().position(|x| x == n));
+    let mut err = AppError::from(e);
+    if let Some(i) = index {
+        err.path = Some(format!("integrals[{i}]"));
+    }
+    err
+}

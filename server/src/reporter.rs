@@ -1,0 +1,82 @@
+//! [`Reporter`]: the observer of a streamed run. It batches new buckets and, a few times a
+//! second, sends them as `points` events followed by a `progress` event into the stream's
+//! bounded channel (blocking the run when the client reads slowly). It stops the run when
+//! the request is cancelled or the channel is closed (the client went away).
+
+use crate::events::{PointsEvent, ProgressEvent, event};
+use crate::{Cancel, SeriesView};
+use axum::response::sse::Event;
+use nhlab_core::{Bucket, Integral, Observer};
+use std::ops::ControlFlow;
+use std::time::{Duration, Instant};
+use tokio::sync::mpsc::Sender;
+
+/// Streams a run's buckets and progress.
+#[derive(Debug)]
+pub struct Reporter {
+    run: usize,
+    steps: u64,
+    tx: Sender<Event>,
+    cancel: Cancel,
+    pending: Vec<(Integral, SeriesView)>,
+    last: Instant,
+    every: Duration,
+}
+
+impl Reporter {
+    /// A reporter for run `run` of `steps` steps, reporting every `every`.
+    pub fn new(run: usize, steps: u64, every: Duration, tx: Sender<Event>, cancel: Cancel) -> Self {
+        Self { run, steps, tx, cancel, pending: Vec::new(), last: Instant::now(), every }
+    }
+
+    /// The `points` events of the buckets not sent yet (the coordinator sends the last ones
+    /// after the run, before its `run` event).
+    pub fn take_points(&mut self) -> Vec<Event> {
+        let run = self.run;
+        self.pending
+            .iter_mut()
+            .filter(|(_, s)| !s.is_empty())
+            .map(|(integral, series)| {
+                let series = std::mem::take(series);
+                event("points", &PointsEvent { run, integral: integral.id().to_owned(), series })
+            })
+            .collect()
+    }
+
+    fn send(&self, ev: Event) -> bool {
+        self.tx.blocking_send(ev).is_ok()
+    }
+}
+
+impl Observer for Reporter {
+    fn points(&mut self, integral: Integral, bucket: Bucket) {
+        match self.pending.iter_mut().find(|(i, _)| *i == integral) {
+            Some((_, series)) => series.push(bucket),
+            None => {
+                let mut series = SeriesView::default();
+                series.push(bucket);
+                self.pending.push((integral, series));
+            }
+        }
+    }
+
+    fn progress(&mut self, steps_done: u64, t: f64) -> ControlFlow<()> {
+        if self.cancel.is_cancelled() {
+            return ControlFlow::Break(());
+        }
+        if self.last.elapsed() < self.every {
+            return ControlFlow::Continue(());
+        }
+        self.last = Instant::now();
+        let fraction = steps_done as f64 / self.steps.max(1) as f64;
+        let progress =
+            event("progress", &ProgressEvent { run: self.run, t, fraction, steps: steps_done });
+        let sent = self.take_points().into_iter().chain([progress]).all(|ev| self.send(ev));
+        if sent {
+            ControlFlow::Continue(())
+        } else {
+            self.cancel.cancel();
+            ControlFlow::Break(())
+        }
+    }
+}

@@ -1,0 +1,104 @@
+//! [`Runner`]: runs one method of a [`Plan`] on the blocking thread pool, never on the
+//! async runtime, counting it in [`AppState::active_runs`] and timing its own compute.
+//!
+//! Cancellation: a [`Cancel`] flag, checked by the observers every
+//! [`PROGRESS_EVERY`] steps (microseconds apart), set when the client goes away (the
+//! handler's future or the stream is dropped, see [`CancelOnDrop`]).
+
+use crate::{AppState, Plan};
+use nhlab_core::{Observer, RunConfig, RunOutcome};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+use tokio::task::JoinHandle;
+
+/// Steps between two looks at the cancellation flag (and the clock, for progress).
+pub const PROGRESS_EVERY: u64 = 1024;
+
+/// A flag that asks running simulations to stop.
+#[derive(Debug, Clone, Default)]
+pub struct Cancel(Arc<AtomicBool>);
+
+impl Cancel {
+    /// Asks the runs to stop.
+    pub fn cancel(&self) {
+        self.0.store(true, Ordering::SeqCst);
+    }
+
+    /// Whether a stop was asked for.
+    pub fn is_cancelled(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+
+    /// A guard that cancels when dropped (held by whatever lives as long as the client).
+    pub fn on_drop(&self) -> CancelOnDrop {
+        CancelOnDrop(self.clone())
+    }
+}
+
+/// Cancels its [`Cancel`] when dropped.
+#[derive(Debug)]
+pub struct CancelOnDrop(Cancel);
+
+impl Drop for CancelOnDrop {
+    fn drop(&mut self) {
+        self.0.cancel();
+    }
+}
+
+/// How one run ended.
+#[derive(Debug)]
+pub struct Finished<O> {
+    /// The run index (its place in the plan's methods).
+    pub index: usize,
+    /// The core's outcome, or the panic message if the simulation panicked.
+    pub outcome: Result<RunOutcome, String>,
+    /// The run's own compute time, in milliseconds.
+    pub elapsed_ms: f64,
+    /// The observer, with whatever it collected.
+    pub observer: O,
+}
+
+/// Starts runs of a plan.
+#[derive(Debug, Clone)]
+pub struct Runner {
+    state: AppState,
+}
+
+impl Runner {
+    /// A runner counting its runs in `state`.
+    pub fn new(state: &AppState) -> Self {
+        Self { state: state.clone() }
+    }
+
+    /// Runs method `index` of `plan` on the blocking pool, reporting to `observer`.
+    pub fn spawn<O: Observer + Send + 'static>(
+        &self,
+        plan: &Plan,
+        index: usize,
+        mut observer: O,
+    ) -> JoinHandle<Finished<O>> {
+        let guard = self.state.run_guard();
+        let prepared = plan.prepared.clone();
+        let method = plan.methods[index];
+        let cfg = RunConfig { points: plan.points, progress_every: PROGRESS_EVERY };
+        tokio::task::spawn_blocking(move || {
+            let _guard = guard;
+            let start = Instant::now();
+            let outcome =
+                catch_unwind(AssertUnwindSafe(|| prepared.run(&method, &cfg, &mut observer)))
+                    .map_err(|panic| {
+                        let message = panic
+                            .downcast_ref::<&str>()
+                            .map(|s| s.to_string())
+                            .or_else(|| panic.downcast_ref::<String>().cloned())
+                            .unwrap_or_else(|| "unknown panic".into());
+                        tracing::error!(run = index, %message, "simulation panicked");
+                        message
+                    });
+            let elapsed_ms = (start.elapsed().as_secs_f64() * 1e6).round() / 1e3;
+            Finished { index, outcome, elapsed_ms, observer }
+        })
+    }
+}

@@ -1,0 +1,77 @@
+//! [`SceneView`]: the resolved scene as the API reports it (the JSON response's `scene`, the
+//! stream's `scene` event): every field after presets and defaults were applied.
+
+use nhlab_core::{Method, PreparedScene};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use utoipa::ToSchema;
+
+/// A resolved scene.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct SceneView {
+    /// System id.
+    pub system: String,
+    /// The preset it started from.
+    pub preset: String,
+    /// Every parameter of the system with its value.
+    pub params: BTreeMap<String, f64>,
+    /// Initial configuration.
+    pub q: Vec<f64>,
+    /// Initial velocity.
+    pub v: Vec<f64>,
+    /// Step size.
+    pub step: f64,
+    /// Final time.
+    pub t_end: f64,
+    /// Steps per run, `⌊t_end/step + 1e-9⌋`.
+    pub steps: u64,
+    /// The methods, in run order (a run's index is its place here).
+    pub methods: Vec<MethodView>,
+    /// The integrals measured.
+    pub integrals: Vec<String>,
+    /// Buckets per series (at most; fewer when there are fewer samples).
+    pub points: usize,
+}
+
+/// A configured method: its id, its parameters (e.g. `alpha`) and its label.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct MethodView {
+    /// Method id.
+    pub id: String,
+    /// Parameter values by name, inline (e.g. `"alpha": 0.4`).
+    #[serde(flatten)]
+    pub params: BTreeMap<String, f64>,
+    /// Short label, e.g. `DLA^0.4`.
+    pub label: String,
+}
+
+impl MethodView {
+    /// The view of a method.
+    pub fn of(method: &Method) -> Self {
+        Self {
+            id: method.info().id.to_owned(),
+            params: method.params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect(),
+            label: method.label(),
+        }
+    }
+}
+
+impl SceneView {
+    /// The view of a prepared scene run with `methods` and `points`.
+    pub fn of(prepared: &PreparedScene, methods: &[Method], points: usize) -> Self {
+        let scene = &prepared.scene;
+        Self {
+            system: scene.system.info().id.to_owned(),
+            preset: scene.preset.to_owned(),
+            params: scene.named_params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect(),
+            q: scene.q.clone(),
+            v: scene.v.clone(),
+            step: scene.step,
+            t_end: scene.t_end,
+            steps: scene.steps(),
+            methods: methods.iter().map(MethodView::of).collect(),
+            integrals: prepared.integrals.iter().map(|i| i.id().to_owned()).collect(),
+            points,
+        }
+    }
+}

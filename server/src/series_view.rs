@@ -1,0 +1,35 @@
+//! [`SeriesView`]: one integral's error series as columns `t`, `mean`, `max` (the core's
+//! buckets). Non-finite values (a diverging run) are written as JSON `null`.
+
+use nhlab_core::Bucket;
+use serde::Serialize;
+use utoipa::ToSchema;
+
+/// Buckets of one error series, as columns.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, ToSchema)]
+pub struct SeriesView {
+    /// Time of each bucket's last sample.
+    pub t: Vec<Option<f64>>,
+    /// Mean error over each bucket (null if not finite).
+    pub mean: Vec<Option<f64>>,
+    /// Max error over each bucket (null if not finite).
+    pub max: Vec<Option<f64>>,
+}
+
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+impl SeriesView {
+    /// Appends a bucket.
+    pub fn push(&mut self, b: Bucket) {
+        self.t.push(finite(b.t));
+        self.mean.push(finite(b.mean));
+        self.max.push(finite(b.max));
+    }
+
+    /// Whether it holds no bucket.
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+}

@@ -1,0 +1,108 @@
+//! [`simulate`]: the `POST /simulate` handler. It reads and checks the request, then answers
+//! with one JSON document ([`SimulateResponse`]) or, for `Accept: text/event-stream`, with the
+//! event [`stream`](crate::stream()). The methods run in parallel on the blocking pool.
+
+use crate::plan::Delivery;
+use crate::{
+    AppError, AppState, Cancel, Collector, Plan, RunView, Runner, SceneView, SimulateRequest,
+    Status,
+};
+use axum::Json;
+use axum::body::Bytes;
+use axum::extract::State;
+use axum::extract::rejection::BytesRejection;
+use axum::http::{HeaderMap, header};
+use axum::response::{IntoResponse, Response};
+use serde::Serialize;
+use utoipa::ToSchema;
+
+/// The JSON answer of `POST /simulate`.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct SimulateResponse {
+    /// The resolved scene.
+    pub scene: SceneView,
+    /// One run per method, in the order of `scene.methods`.
+    pub runs: Vec<RunView>,
+}
+
+/// Runs methods on a scene and reports the error of each first integral over time.
+#[utoipa::path(
+    post,
+    path = "/simulate",
+    request_body = SimulateRequest,
+    responses(
+        (status = 200, description = "The resolved scene and one run per method. With \
+            `Accept: text/event-stream`, server-sent events instead: `scene` (SceneView), \
+            `progress` (ProgressEvent), `points` (PointsEvent), `run` (RunEvent), `done` \
+            (DoneEvent).",
+            content(
+                (SimulateResponse = "application/json"),
+                (String = "text/event-stream"),
+            )),
+        (status = 400, description = "The body is not valid JSON of the right shape", body = crate::ErrorBody),
+        (status = 413, description = "The body is too large", body = crate::ErrorBody),
+        (status = 422, description = "A field is wrong (the error names it)", body = crate::ErrorBody),
+        (status = 500, description = "Internal error", body = crate::ErrorBody),
+    )
+)]
+pub async fn simulate(
+    State(state): State<AppState>,
+    headers: HeaderMap,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Response, AppError> {
+    let body = body.map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
+    let req = SimulateRequest::from_json(&body)?;
+    let delivery = if wants_stream(&headers) { Delivery::Stream } else { Delivery::Json };
+    let plan = Plan::resolve(&req, &state.config, delivery)?;
+    let scene = &plan.scene;
+    let summary = format!(
+        "{}/{} steps={} methods={} {:?}",
+        scene.system,
+        scene.preset,
+        scene.steps,
+        scene.methods.len(),
+        delivery
+    );
+    tracing::Span::current().record("scene", summary.as_str());
+    match delivery {
+        Delivery::Stream => Ok(crate::stream(&state, plan)),
+        Delivery::Json => Ok(Json(run(&state, plan).await?).into_response()),
+    }
+}
+
+fn wants_stream(headers: &HeaderMap) -> bool {
+    headers
+        .get_all(header::ACCEPT)
+        .iter()
+        .filter_map(|v| v.to_str().ok())
+        .any(|v| v.contains("text/event-stream"))
+}
+
+/// Runs every method of `plan` in parallel and collects the series.
+async fn run(state: &AppState, plan: Plan) -> Result<SimulateResponse, AppError> {
+    let cancel = Cancel::default();
+    // If the client goes away, this future is dropped and the runs are stopped.
+    let _on_drop = cancel.on_drop();
+    let runner = Runner::new(state);
+    let handles: Vec<_> = (0..plan.methods.len())
+        .map(|i| runner.spawn(&plan, i, Collector::new(&plan.prepared.integrals, cancel.clone())))
+        .collect();
+    let mut runs = Vec::with_capacity(handles.len());
+    for (i, handle) in handles.into_iter().enumerate() {
+        let finished = handle.await.map_err(|e| AppError::internal(format!("run {i}: {e}")))?;
+        let outcome = finished.outcome.map_err(|panic| {
+            AppError::internal(format!(
+                "internal error: the simulation of run {i} panicked: {panic}"
+            ))
+        })?;
+        runs.push(RunView {
+            method: plan.scene.methods[i].clone(),
+            status: Status::of(&outcome),
+            error: outcome.error.map(|e| e.to_string()),
+            steps: outcome.steps,
+            elapsed_ms: finished.elapsed_ms,
+            series: finished.observer.series,
+        });
+    }
+    Ok(SimulateResponse { scene: plan.scene, runs })
+}

@@ -1,0 +1,197 @@
+//! [`SystemsResponse`]: `GET /systems`, everything a client needs to build a request: the
+//! systems with their parameters, integrals and presets (the paper's experiments), the
+//! methods with theirs, the default methods and the server's limits.
+
+use crate::{AppState, Config, MethodView};
+use axum::Json;
+use axum::extract::State;
+use nhlab_core::{Method, ParamSpec, Preset, SYSTEMS, SystemEntry, method_infos};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use utoipa::ToSchema;
+
+/// The answer of `GET /systems`.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct SystemsResponse {
+    /// Every system.
+    pub systems: Vec<SystemView>,
+    /// Every method.
+    pub methods: Vec<MethodInfoView>,
+    /// The methods run when a request names none (the paper's five).
+    pub default_methods: Vec<MethodView>,
+    /// The server's limits.
+    pub limits: LimitsView,
+}
+
+/// A system.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct SystemView {
+    /// Id, as in requests.
+    pub id: String,
+    /// Human name.
+    pub name: String,
+    /// What it is.
+    pub description: String,
+    /// Number of coordinates (length of q and v).
+    pub dof: usize,
+    /// Number of constraints.
+    pub constraints: usize,
+    /// Its parameters.
+    pub params: Vec<ParamView>,
+    /// The integrals it has.
+    pub integrals: Vec<String>,
+    /// Its presets; the first is the default.
+    pub presets: Vec<PresetView>,
+}
+
+/// A parameter of a system or a method.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct ParamView {
+    /// Name, as in requests.
+    pub name: String,
+    /// Value when not given.
+    pub default: f64,
+    /// Lower bound (null: unbounded).
+    pub min: Option<f64>,
+    /// Upper bound (null: unbounded).
+    pub max: Option<f64>,
+    /// Whether `min` itself is excluded.
+    pub min_open: bool,
+    /// Whether `max` itself is excluded.
+    pub max_open: bool,
+    /// What it means.
+    pub description: String,
+}
+
+/// A preset: a named scene.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct PresetView {
+    /// Id, as in requests.
+    pub id: String,
+    /// Human label.
+    pub label: String,
+    /// Parameter values it sets (the others take their defaults).
+    pub params: BTreeMap<String, f64>,
+    /// Initial configuration.
+    pub q: Vec<f64>,
+    /// Initial velocity.
+    pub v: Vec<f64>,
+    /// Step size.
+    pub step: f64,
+    /// Final time.
+    pub t_end: f64,
+}
+
+/// A method.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct MethodInfoView {
+    /// Id, as in requests.
+    pub id: String,
+    /// Human name.
+    pub name: String,
+    /// Its parameters.
+    pub params: Vec<ParamView>,
+    /// Order of convergence with default parameters.
+    pub order: u32,
+    /// Where it comes from.
+    pub reference: String,
+    /// Whether a step solves a nonlinear system.
+    pub implicit: bool,
+}
+
+/// The limits a request must respect.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct LimitsView {
+    /// Most steps per run for a JSON response.
+    pub max_steps_json: u64,
+    /// Most steps per run for a stream.
+    pub max_steps_stream: u64,
+    /// Most `points` per series.
+    pub max_points: u64,
+    /// Most methods per request.
+    pub max_methods: usize,
+    /// Largest request body, in bytes.
+    pub max_body_bytes: usize,
+}
+
+fn bound(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+impl ParamView {
+    fn of(p: &ParamSpec) -> Self {
+        Self {
+            name: p.name.into(),
+            default: p.default,
+            min: bound(p.min),
+            max: bound(p.max),
+            min_open: p.min_open,
+            max_open: p.max_open,
+            description: p.description.into(),
+        }
+    }
+}
+
+impl PresetView {
+    fn of(p: &Preset) -> Self {
+        Self {
+            id: p.id.into(),
+            label: p.label.into(),
+            params: p.params.iter().map(|&(n, v)| (n.to_owned(), v)).collect(),
+            q: p.q.to_vec(),
+            v: p.v.to_vec(),
+            step: p.step,
+            t_end: p.t_end,
+        }
+    }
+}
+
+impl SystemView {
+    fn of(entry: &SystemEntry) -> Self {
+        let info = entry.info();
+        Self {
+            id: info.id.into(),
+            name: info.name.into(),
+            description: info.description.into(),
+            dof: entry.dof,
+            constraints: entry.constraints,
+            params: info.params.iter().map(ParamView::of).collect(),
+            integrals: info.integrals.iter().map(|i| i.id().to_owned()).collect(),
+            presets: info.presets.iter().map(PresetView::of).collect(),
+        }
+    }
+}
+
+impl SystemsResponse {
+    /// The listing, with the limits of `config`.
+    pub fn new(config: &Config) -> Self {
+        Self {
+            systems: SYSTEMS.iter().map(SystemView::of).collect(),
+            methods: method_infos()
+                .into_iter()
+                .map(|m| MethodInfoView {
+                    id: m.id.into(),
+                    name: m.name.into(),
+                    params: m.params.iter().map(ParamView::of).collect(),
+                    order: m.order,
+                    reference: m.reference.into(),
+                    implicit: m.implicit,
+                })
+                .collect(),
+            default_methods: Method::paper_five().iter().map(MethodView::of).collect(),
+            limits: LimitsView {
+                max_steps_json: config.max_steps_json,
+                max_steps_stream: config.max_steps_stream,
+                max_points: config.max_points,
+                max_methods: config.max_methods,
+                max_body_bytes: config.max_body_bytes,
+            },
+        }
+    }
+}
+
+/// Lists the systems, methods and limits.
+#[utoipa::path(get, path = "/systems", responses((status = 200, body = SystemsResponse)))]
+pub async fn systems(State(state): State<AppState>) -> Json<SystemsResponse> {
+    Json(SystemsResponse::new(&state.config))
+}
