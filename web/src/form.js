@@ -64,8 +64,8 @@ export class Form {
     box.dataset.id = id;
     box.setAttribute('aria-label', `use ${info.name}`);
     const swatch = el('span', 'swatch');
-    const name = el('span', 'method-name', info.name);
-    name.title = [info.reference, info.order ? `order ${info.order}` : ''].filter(Boolean).join(' · ');
+    const name = el('span', 'method-name', SHORT_NAMES[id] ?? info.name);
+    name.title = [info.name, info.order ? `order ${info.order}` : '', info.reference].filter(Boolean).join(' · ');
     row.append(box, swatch, name);
     for (const p of info.params ?? []) {
       const wrap = el('label', 'method-param');
@@ -77,7 +77,7 @@ export class Form {
       if (Number.isFinite(p.max)) input.max = p.max;
       setNumber(input, params[p.name] ?? p.default);
       input.title = p.description ?? p.name;
-      wrap.append(document.createTextNode(`${paramSymbol(p.name)} `), input);
+      wrap.append(document.createTextNode(`${SYMBOLS[p.name] ?? p.name} =`), input);
       row.append(wrap);
     }
     const remove = el('button', 'icon', '×');
@@ -155,11 +155,12 @@ export class Form {
   /** Shows `message` next to the field `path` names (or its closest named ancestor). */
   showError(path, message) {
     const target = this.#fieldFor(path ?? '');
-    const p = el('p', 'field-error', path && target ? message : message);
+    const p = el('p', 'field-error', message);
     p.setAttribute('role', 'alert');
     if (target) {
       target.classList.add('invalid');
-      target.append(p);
+      // A method parameter's message goes under its row, not inside the inline label.
+      (target.classList.contains('method-param') ? target.closest('.method-row') : target).append(p);
       target.scrollIntoView?.({ block: 'nearest' });
       return true;
     }
@@ -224,7 +225,7 @@ export class Form {
       if (Number.isFinite(p.min)) input.min = p.min;
       if (Number.isFinite(p.max)) input.max = p.max;
       setNumber(input, values[p.name] ?? p.default);
-      const range = Number.isFinite(p.min) || Number.isFinite(p.max) ? ` Range ${fmt(p.min)} … ${fmt(p.max)}.` : '';
+      const range = Number.isFinite(p.min) || Number.isFinite(p.max) ? ` Allowed: ${interval(p)}.` : '';
       field.append(label, input, el('p', 'hint', `${p.description ?? ''}.${range}`.replace(/\.\./g, '.')));
       return field;
     });
@@ -233,10 +234,18 @@ export class Form {
   }
 }
 
+// The paper's short names; the full name and reference are the row's tooltip.
+const SHORT_NAMES = { dla: 'DLA^α', dla01: 'DLA^{0,1}', leapfrog: 'LF (leap-frog)', dd: 'DD (discrete derivative)' };
+
 const SYMBOLS = { epsilon: 'ε', alpha: 'α' };
 
 function paramSymbol(name) {
   return SYMBOLS[name] ? `${SYMBOLS[name]} (${name})` : name;
+}
+
+// (-1, 1) for open bounds, [-10, 10] for closed ones.
+function interval(p) {
+  return `${p.min_open ? '(' : '['}${fmt(p.min)}, ${fmt(p.max)}${p.max_open ? ')' : ']'}`;
 }
 
 function fmt(v) {

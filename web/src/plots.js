@@ -38,14 +38,15 @@ export class Plots {
       const card = el('section', 'plot-card');
       card.dataset.integral = integral;
       const head = el('header', 'plot-head');
-      head.append(el('h3', '', title), el('span', 'plot-sub', subtitle));
+      const sub = el('span', 'plot-sub', subtitle);
+      head.append(el('h3', '', title), sub);
       const target = el('div', 'plot');
       const note = el('p', 'floor-note');
       note.hidden = true;
       note.textContent = `Values below ${FLOOR.toExponential(0)} are shown at ${FLOOR.toExponential(0)} on the dashed line (exact within round-off).`;
       card.append(head, target, note);
       this.container.append(card);
-      const chart = { integral, card, note, clamped: false, u: null };
+      const chart = { integral, card, note, sub, subtitle, clamped: false, u: null };
       chart.u = new uPlot(this.#options(result, chart), emptyData(result.runs.length), target);
       card.uplot = chart.u; // for the browser test: the drawn series
       this.charts.push(chart);
@@ -62,8 +63,14 @@ export class Plots {
         chart.clamped ||= d.clamped;
         return [d.t, d.y];
       });
-      const data = tables.length ? uPlot.join(tables) : [[]];
+      // The time axis spans the whole run from the start, so the curves grow across it.
+      const t_end = this.result.scene.t_end;
+      if (Number.isFinite(t_end)) tables.push([[0, t_end]]);
+      const data = uPlot.join(tables);
       chart.note.hidden = !chart.clamped;
+      // Say what is drawn: the plain per-bucket statistic or a smoothed one.
+      const how = [view.stat === 'max' ? 'max per bucket' : 'mean per bucket', view.window > 0 ? `running mean over ${view.window} time units` : ''];
+      chart.sub.textContent = `${chart.subtitle} · ${how.filter(Boolean).join(', ')}`;
       chart.u.setData(data);
     }
     this.#labels();
@@ -114,7 +121,10 @@ export class Plots {
           size: 64,
           grid: { stroke: '#e2e8f0' },
           ticks: { stroke: '#cbd5e1' },
-          values: (u, splits) => splits.map((v) => (isDecade(v) ? v.toExponential(0) : '')),
+          splits: (u, axis, min, max) => decades(min, max, u.bbox.height / devicePixelRatio || HEIGHT),
+          // uPlot's log filter would blank ticks that are not 1·, 2·, 5·10ⁿ; ours are all decades.
+          filter: (u, splits) => splits,
+          values: (u, splits) => splits.map(power),
         },
       ],
       series: [
@@ -122,7 +132,9 @@ export class Plots {
         ...result.runs.map((run, i) => ({
           label: run.label,
           stroke: runColor(i),
-          width: 1.6,
+          // Earlier curves are wider, so a curve hidden under a later identical one (DLA^0.5
+          // and DLA^{0,1} coincide on the knife edge) still shows as a halo.
+          width: Math.max(1.25, 2.8 - 0.35 * i),
           points: { show: false },
           value: (u, v) => (v === null || v === undefined ? '–' : v.toExponential(3)),
         })),
@@ -158,9 +170,25 @@ function logRange(min, max, clamped) {
   return [lo, hi];
 }
 
-function isDecade(v) {
-  const e = Math.log10(v);
-  return Math.abs(e - Math.round(e)) < 1e-6;
+// Ticks at whole decades only, thinned so labels stay ~28 px apart on a tall range.
+function decades(min, max, height) {
+  const lo = Math.ceil(Math.log10(min) - 1e-9);
+  const hi = Math.floor(Math.log10(max) + 1e-9);
+  const stride = Math.max(1, Math.ceil((28 * (hi - lo + 1)) / Math.max(height, 1)));
+  const out = [];
+  // Multiples of the stride, so 1 = 10⁰ is always a tick when in range.
+  for (let e = Math.floor(hi / stride) * stride; e >= lo; e -= stride) out.unshift(10 ** e);
+  return out;
+}
+
+const SUPERSCRIPT = { '-': '⁻', 0: '⁰', 1: '¹', 2: '²', 3: '³', 4: '⁴', 5: '⁵', 6: '⁶', 7: '⁷', 8: '⁸', 9: '⁹' };
+
+// 1e-12 → "10⁻¹²"; 1 and 10 as themselves.
+function power(v) {
+  const e = Math.round(Math.log10(v));
+  if (e === 0) return '1';
+  if (e === 1) return '10';
+  return `10${String(e).replace(/./g, (c) => SUPERSCRIPT[c])}`;
 }
 
 function drawFloor(u, chart) {
