@@ -7,7 +7,9 @@
 //! 1. the paper's knife-edge experiment (one click) draws five curves, the progress bar
 //!    reaches 100 %, every run ends `ok`, and the console has no errors; a screenshot goes to
 //!    `<target>/screenshots/knife-edge.png`;
-//! 2. a link with a bad parameter and `run=1` fills the form, runs by itself, and shows the
+//! 2. runs that fail (a step far too large) are marked failed, with the server's message;
+//! 3. a long run shows curves before it ends, and Cancel stops it;
+//! 4. a link with a bad parameter and `run=1` fills the form, runs by itself, and shows the
 //!    server's error next to the field its `path` names.
 //!
 //! Chromium and chromedriver are required, not optional: without them the test fails and
@@ -44,10 +46,12 @@ async fn the_page_runs_the_knife_edge_experiment_in_a_real_browser() {
 
 async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), String> {
     knife_edge(client, driver, base).await?;
+    failed_runs(client, driver, base).await?;
+    cancel(client, driver, base).await?;
     bad_parameter_link(client, base).await
 }
 
-/// Scenario 1: one click on the paper's knife-edge experiment.
+/// One click on the paper's knife-edge experiment.
 async fn knife_edge(client: &Client, driver: &Driver, base: &str) -> Result<(), String> {
     client.goto(base).await.map_err(|e| format!("cannot load {base}: {e}"))?;
     let button = r#"#experiments button[data-system="knife_edge"][data-preset="paper"]"#;
@@ -100,14 +104,98 @@ async fn knife_edge(client: &Client, driver: &Driver, base: &str) -> Result<(), 
         "the URL must reproduce the run: {url}"
     );
 
-    let errors: Vec<Value> =
-        driver.browser_log(client).await?.into_iter().filter(|e| e["level"] == "SEVERE").collect();
-    assert!(errors.is_empty(), "the browser console has errors: {errors:#?}");
+    console_clean(driver, client, "knife edge").await?;
     println!("knife edge: five curves drawn, progress 100 %, console clean; screenshot {shot}");
     Ok(())
 }
 
-/// Scenario 2: a link restores the form, runs by itself, and a 4xx lands next to its field.
+/// A link whose step is far too large for the implicit methods: the runs that fail say so in
+/// the runs table (with the server's message) and in the legend, the others still plot.
+async fn failed_runs(client: &Client, driver: &Driver, base: &str) -> Result<(), String> {
+    let link = format!(
+        "{base}?system=cvt_pendulum&preset=oscillating&step=2.5&t_end=300&integrals=energy&run=1"
+    );
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    let (state, text) = wait_for_status(client).await?;
+    let shot = screenshot(client, "failed-runs.png").await;
+    assert_eq!(
+        state, "done-failed",
+        "some runs must fail with h = 2.5 on the CVT; the page said {text:?} ({shot})"
+    );
+    let report = js(client, FAILED_REPORT).await?;
+    let runs: Vec<&str> = report["runs"]
+        .as_array()
+        .map(|a| a.iter().filter_map(Value::as_str).collect())
+        .unwrap_or_default();
+    let failed = runs.iter().filter(|s| **s == "failed").count();
+    assert!(failed >= 1 && failed < runs.len(), "expected some runs failed, some ok: {report}");
+    let messages = report["messages"].as_array().map(Vec::len).unwrap_or(0);
+    assert_eq!(messages, failed, "each failed run shows its message: {report}");
+    let legend = report["legend"].as_array().map(Vec::len).unwrap_or(0);
+    assert_eq!(legend, failed, "each failed run is marked in the legend: {report}");
+    console_clean(driver, client, "failed runs").await
+}
+
+/// The runs table's badges and messages, and the legend entries marked failed.
+const FAILED_REPORT: &str = r#"
+return {
+  runs: [...document.querySelectorAll('#runs tr.run .badge')].map((b) => b.textContent),
+  messages: [...document.querySelectorAll('#runs tr.run-error td')].map((t) => t.textContent),
+  legend: [...document.querySelectorAll('.plot-card .u-legend .u-series.failed .u-label')]
+    .map((e) => e.textContent),
+};
+"#;
+
+/// A long run: curves appear before it ends (the stream is live), and Cancel stops it.
+async fn cancel(client: &Client, driver: &Driver, base: &str) -> Result<(), String> {
+    let link = format!(
+        "{base}?system=cvt_pendulum&preset=oscillating&t_end=10000000&integrals=energy&run=1"
+    );
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    let start = Instant::now();
+    loop {
+        let v = js(client, LIVE_REPORT).await?;
+        if v[0].as_f64().unwrap_or(0.0) > 0.0 && v[1].as_u64().unwrap_or(0) > 0 {
+            break;
+        }
+        if start.elapsed() > RUN_TIMEOUT {
+            return Err(format!("no progress and no points within {RUN_TIMEOUT:?}: {v}"));
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    let button = client.find(Locator::Id("cancel")).await.map_err(|e| e.to_string())?;
+    button.click().await.map_err(|e| format!("cannot click Cancel: {e}"))?;
+    let (state, text) = wait_for_status(client).await?;
+    assert_eq!(state, "cancelled", "Cancel stops the run; the page said {text:?}");
+    let v = js(client, AFTER_CANCEL).await?;
+    assert!(v[0].as_f64().unwrap_or(1.0) < 1.0, "a cancelled run is not complete: {v}");
+    let badges = v[1].as_array().cloned().unwrap_or_default();
+    assert!(badges.iter().any(|s| s == "cancelled"), "runs show as cancelled: {v}");
+    assert_eq!(v[2], json!(false), "Run is enabled again after Cancel: {v}");
+    console_clean(driver, client, "cancel").await
+}
+
+/// Progress so far and the number of points drawn on the first chart.
+const LIVE_REPORT: &str = "const u = document.querySelector('.plot-card')?.uplot;
+return [document.getElementById('progress').value,
+        u ? u.data.slice(1).reduce((n, d) => n + d.filter((x) => x != null).length, 0) : 0];";
+
+const AFTER_CANCEL: &str = "return [document.getElementById('progress').value,
+  [...document.querySelectorAll('#runs tr.run .badge')].map((b) => b.textContent),
+  document.getElementById('run').disabled];";
+
+/// Fails on any console error since the last look.
+async fn console_clean(driver: &Driver, client: &Client, scenario: &str) -> Result<(), String> {
+    let log = driver.browser_log(client).await?;
+    let errors: Vec<&Value> = log.iter().filter(|e| e["level"] == "SEVERE").collect();
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(format!("{scenario}: the browser console has errors: {errors:#?}"))
+    }
+}
+
+/// A link restores the form, runs by itself, and a 4xx lands next to its field.
 async fn bad_parameter_link(client: &Client, base: &str) -> Result<(), String> {
     let link = format!("{base}?system=knife_edge&preset=paper-perturbed&param.epsilon=2&run=1");
     client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;

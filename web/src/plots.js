@@ -22,6 +22,8 @@ const INTEGRALS = {
 
 const HEIGHT = 300;
 
+const DECADES = Array.from({ length: 617 }, (_, i) => 10 ** (i - 308));
+
 export class Plots {
   constructor(container) {
     this.container = container;
@@ -121,6 +123,9 @@ export class Plots {
           size: 64,
           grid: { stroke: '#e2e8f0' },
           ticks: { stroke: '#cbd5e1' },
+          // uPlot's default log increments stop at 10^±16; a diverging run goes far beyond,
+          // and without an increment the axis would lose its ticks.
+          incrs: DECADES,
           splits: (u, axis, min, max) => decades(min, max, u.bbox.height / devicePixelRatio || HEIGHT),
           // uPlot's log filter would blank ticks that are not 1·, 2·, 5·10ⁿ; ours are all decades.
           filter: (u, splits) => splits,

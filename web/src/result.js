@@ -57,10 +57,10 @@ export class Result {
     for (const run of this.runs) if (run.status === 'running') run.status = status;
   }
 
-  /** Overall progress in [0, 1]: finished runs count as complete. */
+  /** Overall progress in [0, 1]: finished runs (ok or failed) count as complete, cancelled ones do not. */
   get fraction() {
     if (this.runs.length === 0) return 0;
-    const sum = this.runs.reduce((a, r) => a + (r.status === 'running' ? r.fraction : 1), 0);
+    const sum = this.runs.reduce((a, r) => a + (r.status === 'ok' || r.status === 'failed' ? 1 : r.fraction), 0);
     return sum / this.runs.length;
   }
 

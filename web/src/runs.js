@@ -49,7 +49,8 @@ function timing(run) {
   const time = ms < 1000 ? `${ms.toFixed(ms < 10 ? 1 : 0)} ms` : `${(ms / 1000).toFixed(2)} s`;
   if (!run.steps || !(ms > 0)) return time;
   const rate = run.steps / (ms / 1000);
-  return `${time} · ${rate >= 1e6 ? `${(rate / 1e6).toFixed(1)} M` : `${(rate / 1e3).toFixed(0)} k`} steps/s`;
+  const shown = rate >= 1e6 ? `${(rate / 1e6).toFixed(1)} M` : rate >= 1e3 ? `${(rate / 1e3).toFixed(0)} k` : rate.toFixed(0);
+  return `${time} · ${shown} steps/s`;
 }
 
 function cell(tag, className = '', text) {

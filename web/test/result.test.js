@@ -34,8 +34,10 @@ test('an event for a run the scene lacks is an error, not silence', () => {
 test('cancel marks only unfinished runs', () => {
   const r = new Result(scene);
   r.finishRun({ run: 1, status: 'ok', steps: 1, elapsed_ms: 1 });
+  r.progress({ run: 0, t: 1, fraction: 0.2 });
   r.interrupt('cancelled');
   assert.deepEqual(r.runs.map((x) => x.status), ['cancelled', 'ok']);
+  assert.equal(r.fraction, 0.6, 'a cancelled run keeps the progress it made');
 });
 
 test('CSV has one row per bucket, labels quoted when needed', () => {
