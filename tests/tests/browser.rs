@@ -9,7 +9,8 @@
 //!    `<target>/screenshots/knife-edge.png`;
 //! 2. runs that fail (a step far too large) are marked failed, with the server's message;
 //! 3. a long run shows curves before it ends, and Cancel stops it;
-//! 4. a link with a bad parameter and `run=1` fills the form, runs by itself, and shows the
+//! 4. editing the form rewrites the URL, and that URL restores the form;
+//! 5. a link with a bad parameter and `run=1` fills the form, runs by itself, and shows the
 //!    server's error next to the field its `path` names.
 //!
 //! Chromium and chromedriver are required, not optional: without them the test fails and
@@ -48,6 +49,7 @@ async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), S
     knife_edge(client, driver, base).await?;
     failed_runs(client, driver, base).await?;
     cancel(client, driver, base).await?;
+    form_in_the_url(client, driver, base).await?;
     bad_parameter_link(client, base).await
 }
 
@@ -183,6 +185,43 @@ return [document.getElementById('progress').value,
 const AFTER_CANCEL: &str = "return [document.getElementById('progress').value,
   [...document.querySelectorAll('#runs tr.run .badge')].map((b) => b.textContent),
   document.getElementById('run').disabled];";
+
+/// Editing the form rewrites the URL, and loading that URL restores the form.
+async fn form_in_the_url(client: &Client, driver: &Driver, base: &str) -> Result<(), String> {
+    client.goto(base).await.map_err(|e| format!("cannot load {base}: {e}"))?;
+    let system = client
+        .wait()
+        .at_most(Duration::from_secs(20))
+        .for_element(Locator::Css("#system option[value='cvt_pendulum']"))
+        .await
+        .map_err(|e| format!("no cvt_pendulum in the system list: {e}"))?;
+    drop(system);
+    let select = |css: &'static str| async move {
+        client.find(Locator::Css(css)).await.map_err(|e| format!("{css}: {e}"))
+    };
+    let err = |e: fantoccini::error::CmdError| e.to_string();
+    select("#system").await?.select_by_value("cvt_pendulum").await.map_err(err)?;
+    select("#preset").await?.select_by_value("rotating-perturbed").await.map_err(err)?;
+    select("#add-method-id").await?.select_by_value("dla").await.map_err(err)?;
+    select("#add-method").await?.click().await.map_err(err)?;
+    let url = js(client, "return location.href;").await?;
+    let url = url.as_str().unwrap_or_default().to_owned();
+    for part in ["system=cvt_pendulum", "preset=rotating-perturbed", ",dd,dla:0.5"] {
+        assert!(url.contains(part), "the URL follows the form ({part}): {url}");
+    }
+    assert!(!url.contains("run=1"), "editing the form does not make the link auto-run: {url}");
+    client.goto(&url).await.map_err(|e| format!("cannot load {url}: {e}"))?;
+    let form = js(
+        client,
+        r#"return [document.getElementById('system').value, document.getElementById('preset').value,
+                   document.getElementById('param-epsilon').value,
+                   document.querySelectorAll('#methods .method-row').length,
+                   document.getElementById('status').dataset.state];"#,
+    )
+    .await?;
+    assert_eq!(form, json!(["cvt_pendulum", "rotating-perturbed", "0.5", 6, "idle"]), "{url}");
+    console_clean(driver, client, "form in the URL").await
+}
 
 /// Fails on any console error since the last look.
 async fn console_clean(driver: &Driver, client: &Client, scenario: &str) -> Result<(), String> {
