@@ -17,7 +17,7 @@ pub struct Health {
 }
 
 /// Says the server is up.
-#[utoipa::path(get, path = "/health", responses((status = 200, body = Health)))]
+#[utoipa::path(get, path = "/health", tag = "nhlab", responses((status = 200, body = Health)))]
 pub async fn health(State(state): State<AppState>) -> Json<Health> {
     Json(Health { status: "ok".into(), active_runs: state.active_runs() })
 }

@@ -29,6 +29,7 @@ pub struct SimulateResponse {
 #[utoipa::path(
     post,
     path = "/simulate",
+    tag = "nhlab",
     request_body = SimulateRequest,
     responses(
         (status = 200, description = "The resolved scene and one run per method. With \

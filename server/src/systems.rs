@@ -191,7 +191,7 @@ impl SystemsResponse {
 }
 
 /// Lists the systems, methods and limits.
-#[utoipa::path(get, path = "/systems", responses((status = 200, body = SystemsResponse)))]
+#[utoipa::path(get, path = "/systems", tag = "nhlab", responses((status = 200, body = SystemsResponse)))]
 pub async fn systems(State(state): State<AppState>) -> Json<SystemsResponse> {
     Json(SystemsResponse::new(&state.config))
 }

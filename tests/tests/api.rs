@@ -400,3 +400,25 @@ async fn methods_run_in_parallel_and_stop_when_the_client_leaves() {
     }
     eprintln!("runs stopped {:?} after the client left", left.elapsed());
 }
+
+#[tokio::test]
+async fn a_json_request_stops_when_the_client_leaves() {
+    let server = TestServer::start().await;
+    // 1.5·10⁷ steps per run: seconds of work, within the JSON limit.
+    let request = json!({
+        "system": "knife_edge", "step": 1e-5, "t_end": 150,
+        "methods": ["dd", {"id": "dla", "alpha": 0.5}],
+    });
+    let client = reqwest::Client::new();
+    let send = client.post(server.at("/simulate")).json(&request).send();
+    let waited = tokio::time::timeout(Duration::from_millis(300), send).await;
+    assert!(waited.is_err(), "the runs should take longer than 300 ms");
+    assert_eq!(server.state.active_runs(), 2, "both methods run at once");
+    drop(client); // the request future was dropped with the timeout: the connection closes
+    let left = Instant::now();
+    while server.state.active_runs() > 0 {
+        assert!(left.elapsed() < Duration::from_millis(500), "runs still going after 500 ms");
+        tokio::time::sleep(Duration::from_millis(2)).await;
+    }
+    eprintln!("runs stopped {:?} after the client left", left.elapsed());
+}
