@@ -47,6 +47,18 @@ impl AppError {
         Self { status: StatusCode::INTERNAL_SERVER_ERROR, message: message.into(), path: None }
     }
 
+    /// A 405 for a method a route does not take.
+    pub fn method_not_allowed(method: &str, path: &str) -> Self {
+        Self {
+            status: StatusCode::METHOD_NOT_ALLOWED,
+            message: format!(
+                "{path} does not take {method}; the API is GET /systems, POST /simulate, \
+                 GET /openapi.json, GET /health"
+            ),
+            path: None,
+        }
+    }
+
     /// A 404 for a path the server does not serve.
     pub fn not_found(path: &str) -> Self {
         Self {

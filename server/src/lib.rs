@@ -52,7 +52,7 @@ pub use systems::{
 use axum::Router;
 use axum::body::Body;
 use axum::extract::DefaultBodyLimit;
-use axum::http::Request;
+use axum::http::{Method, Request, Uri};
 use axum::routing::{get, post};
 use tower_http::LatencyUnit;
 use tower_http::trace::{DefaultOnResponse, TraceLayer};
@@ -76,6 +76,9 @@ pub fn app(state: AppState) -> Router {
         .route("/simulate", post(simulate))
         .route("/openapi.json", get(openapi_json))
         .fallback(page)
+        .method_not_allowed_fallback(|method: Method, uri: Uri| async move {
+            AppError::method_not_allowed(method.as_str(), uri.path())
+        })
         .layer(DefaultBodyLimit::max(state.config.max_body_bytes))
         .layer(trace)
         .with_state(state)

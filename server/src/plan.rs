@@ -77,13 +77,24 @@ fn check_steps(scene: &Scene, config: &Config, delivery: Delivery) -> Result<(),
         return Err(AppError::invalid(
             "t_end",
             format!(
-                "t_end / step = {} / {} = {steps} steps per run exceeds the limit of {limit} \
+                "t_end / step = {} / {} = {} steps per run exceeds the limit of {limit} \
                  steps for {how}; shorten t_end or lengthen step",
-                scene.t_end, scene.step
+                short(scene.t_end),
+                short(scene.step),
+                if steps < 1_000_000_000_000_000 {
+                    steps.to_string()
+                } else {
+                    short(scene.t_end / scene.step)
+                },
             ),
         ));
     }
     Ok(())
+}
+
+/// A number for a message: plain unless huge or tiny (1e300 has 301 digits).
+fn short(x: f64) -> String {
+    if x != 0.0 && !(1e-4..1e15).contains(&x.abs()) { format!("{x:e}") } else { format!("{x}") }
 }
 
 fn methods(given: Option<&[MethodRequest]>, config: &Config) -> Result<Vec<Method>, AppError> {

@@ -281,3 +281,12 @@ async fn oversized_bodies_are_413_json() {
         "{error}"
     );
 }
+
+#[tokio::test]
+async fn wrong_methods_are_405_json() {
+    let s = TestServer::start().await;
+    let response = reqwest::get(s.at("/simulate")).await.unwrap();
+    assert_eq!(response.status(), 405);
+    let error: Value = response.json().await.unwrap();
+    assert!(error["error"].as_str().unwrap().contains("POST /simulate"), "{error}");
+}
