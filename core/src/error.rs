@@ -174,6 +174,12 @@ pub enum StepFailure {
     /// The step produced NaN or infinity.
     #[error("the solution became non-finite (the run diverged)")]
     NonFinite,
+    /// The state grew beyond any meaningful size.
+    #[error("the solution exceeded {limit:e} in magnitude (the run diverged; try a smaller step)")]
+    Diverged {
+        /// The bound on |q|, |q̇| and |λ| that was crossed.
+        limit: f64,
+    },
 }
 
 /// Why a run ended before t_end.

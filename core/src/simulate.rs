@@ -86,6 +86,9 @@ pub struct Problem<'a, S, const N: usize, const R: usize> {
     pub latitude: Option<LatitudeAxis>,
 }
 
+/// A state beyond this size has lost every digit that matters: the run has diverged.
+pub const DIVERGED: f64 = 1e100;
+
 struct Series {
     integral: Integral,
     initial: f64,
@@ -142,8 +145,14 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
         if let Err(failure) = method.step(sys, &mut st, h) {
             return failed(failure);
         }
-        if !st.is_finite() {
-            return failed(StepFailure::NonFinite);
+        // One test catches NaN, infinity and blow-up.
+        let size = st.q.norm_squared() + st.v.norm_squared() + st.lambda.norm_squared();
+        if size.is_nan() || size > DIVERGED * DIVERGED {
+            return failed(if size.is_nan() || !st.is_finite() {
+                StepFailure::NonFinite
+            } else {
+                StepFailure::Diverged { limit: DIVERGED }
+            });
         }
         let t = k as f64 * h;
         for s in series.iter_mut().flatten() {

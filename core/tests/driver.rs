@@ -152,3 +152,30 @@ fn successful_run_delivers_every_bucket_once() {
     }
     assert_eq!(c.initial[&Integral::DriverEnergy], 0.5);
 }
+
+#[test]
+fn a_diverging_run_says_so() {
+    use nhlab_core::{Method, Scene, SceneRequest};
+    // h = 2.5 on the CVT is far beyond every method's stability limit.
+    let req = SceneRequest {
+        system: "cvt".into(),
+        step: Some(2.5),
+        t_end: Some(1000.0),
+        ..Default::default()
+    };
+    let scene = Scene::resolve(&req).unwrap().prepare(None).unwrap();
+    let mut diverged = 0;
+    for m in Method::paper_five() {
+        let mut c = Collect::default();
+        let out = scene.run(&m, &RunConfig::default(), &mut c);
+        println!("{}: {:?}", m.label(), out.error);
+        if let Some(e) = out.error {
+            diverged += 1;
+            assert!(e.to_string().contains("diverged") || e.to_string().contains("Newton"), "{e}");
+        }
+        for s in c.series.values() {
+            assert!(s.iter().all(|b| b.mean.is_finite() && b.mean < 1e200), "{}", m.label());
+        }
+    }
+    assert!(diverged >= 1);
+}
