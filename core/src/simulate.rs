@@ -95,18 +95,31 @@ struct Series {
     buckets: Bucketer,
 }
 
+/// The values of the step integrals at one state. The two energies are evaluated once and
+/// H = E + h derived, so asking for all three costs one potential evaluation, not three.
 #[inline]
-fn value<S: System<N, R>, const N: usize, const R: usize>(
-    integral: Integral,
+fn values<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
     st: &State<N, R>,
-) -> f64 {
+    energies: bool,
+    constraint: bool,
+) -> [f64; 4] {
+    let (e, h) = if energies {
+        (sys.passenger_energy(&st.q, &st.v), sys.driver_energy(&st.q, &st.v))
+    } else {
+        (0.0, 0.0)
+    };
+    let c = if constraint { sys.constraint_residual(&st.q, &st.v) } else { 0.0 };
+    [e + h, e, h, c]
+}
+
+#[inline]
+fn index_of(integral: Integral) -> usize {
     match integral {
-        Integral::Energy => sys.energy(&st.q, &st.v),
-        Integral::PassengerEnergy => sys.passenger_energy(&st.q, &st.v),
-        Integral::DriverEnergy => sys.driver_energy(&st.q, &st.v),
-        Integral::Constraint => sys.constraint_residual(&st.q, &st.v),
-        Integral::Latitude => 0.0,
+        Integral::Energy => 0,
+        Integral::PassengerEnergy => 1,
+        Integral::DriverEnergy => 2,
+        Integral::Constraint | Integral::Latitude => 3,
     }
 }
 
@@ -121,10 +134,12 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
     let mut st = problem.start;
     let mut series: [Option<Series>; 4] = [None, None, None, None];
     let step_integrals = problem.integrals.iter().filter(|&&i| i != Integral::Latitude);
+    let energies = problem.integrals.iter().any(|&i| index_of(i) < 3);
+    let constraint = problem.integrals.contains(&Integral::Constraint);
+    let v0 = values(sys, &st, energies, constraint);
     for (slot, &integral) in series.iter_mut().zip(step_integrals) {
         // The constraint residual is reported as is: its ideal value is 0, not its start.
-        let initial =
-            if integral == Integral::Constraint { 0.0 } else { value(integral, sys, &st) };
+        let initial = if integral == Integral::Constraint { 0.0 } else { v0[index_of(integral)] };
         observer.initial(integral, initial);
         *slot =
             Some(Series { integral, initial, buckets: Bucketer::new(problem.steps, cfg.points) });
@@ -155,8 +170,9 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
             });
         }
         let t = k as f64 * h;
+        let now = values(sys, &st, energies, constraint);
         for s in series.iter_mut().flatten() {
-            let e = (value(s.integral, sys, &st) - s.initial).abs();
+            let e = (now[index_of(s.integral)] - s.initial).abs();
             if let Some(b) = s.buckets.push(t, e) {
                 observer.points(s.integral, b);
             }

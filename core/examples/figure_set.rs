@@ -1,0 +1,54 @@
+//! Runs the paper's whole figure set (knife edge ε ∈ {0, 0.1} to t = 100 with h = π/10, the
+//! four CVT scenes to t = 3000 with h = 0.1; five methods each; all integrals, latitude axis
+//! included; 1000 points) `REPS` times on one thread and prints the time per figure set.
+//! `cargo build --release -p nhlab-core --example figure_set &&
+//!  /usr/bin/time -f 'user %U s' target/release/examples/figure_set`
+//! (user CPU time is robust when the machine is shared; wall time is printed too).
+
+use nhlab_core::{Bucket, Integral, Method, Observer, RunConfig, Scene, SceneRequest};
+use std::hint::black_box;
+
+const REPS: u32 = 20;
+const SCENES: [(&str, &str); 6] = [
+    ("knife_edge", "paper"),
+    ("knife_edge", "paper-perturbed"),
+    ("cvt_pendulum", "oscillating"),
+    ("cvt_pendulum", "rotating"),
+    ("cvt_pendulum", "oscillating-perturbed"),
+    ("cvt_pendulum", "rotating-perturbed"),
+];
+
+struct Sink(u64);
+impl Observer for Sink {
+    fn points(&mut self, integral: Integral, bucket: Bucket) {
+        self.0 += 1;
+        black_box((integral, bucket));
+    }
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let t = std::time::Instant::now();
+    let (mut steps, mut buckets) = (0, 0);
+    for _ in 0..REPS {
+        for (system, preset) in SCENES {
+            let req = SceneRequest {
+                system: system.into(),
+                preset: Some(preset.into()),
+                ..Default::default()
+            };
+            let scene = Scene::resolve(&req)?.prepare(None)?;
+            for m in Method::paper_five() {
+                let mut sink = Sink(0);
+                steps += scene.run(&m, &RunConfig::default(), &mut sink).steps;
+                buckets += sink.0;
+            }
+        }
+    }
+    let per = t.elapsed() / REPS;
+    println!(
+        "figure set: {} steps, {} buckets, {per:.1?} wall per set",
+        steps / REPS as u64,
+        buckets / REPS as u64
+    );
+    Ok(())
+}
