@@ -4,9 +4,10 @@
 //!
 //! [`SceneView`]: crate::SceneView
 
-use crate::{MethodView, SeriesView, Status};
+use crate::{MethodView, SeriesView, Status, VerdictView};
 use axum::response::sse::Event;
 use serde::Serialize;
+use std::collections::BTreeMap;
 use utoipa::ToSchema;
 
 /// `progress`: how far a run is (a few per second per run).
@@ -49,6 +50,9 @@ pub struct RunEvent {
     pub steps: u64,
     /// The run's own compute time, in milliseconds.
     pub elapsed_ms: f64,
+    /// The verdict of each series, by integral (they need the whole series, so they come
+    /// here rather than with the `points`).
+    pub verdicts: BTreeMap<String, VerdictView>,
 }
 
 /// `done`: every run has ended; the stream closes.

@@ -23,11 +23,13 @@ mod request;
 mod run_view;
 pub mod runner;
 mod scene_view;
+pub mod scorecard;
 mod series_view;
 mod simulate;
 mod state;
 mod stream;
 mod systems;
+mod verdict_view;
 
 pub use collector::Collector;
 pub use config::Config;
@@ -37,10 +39,11 @@ pub use openapi::{ApiDoc, openapi_json};
 pub use page::{Page, page};
 pub use plan::{Delivery, Plan};
 pub use reporter::Reporter;
-pub use request::{MethodRequest, SimulateRequest};
+pub use request::{MethodRequest, SceneSpec, SimulateRequest};
 pub use run_view::{RunView, Status};
 pub use runner::{Cancel, CancelOnDrop, Runner};
 pub use scene_view::{MethodView, SceneView};
+pub use scorecard::{ScorecardRequest, ScorecardResponse, scorecard};
 pub use series_view::SeriesView;
 pub use simulate::{SimulateResponse, simulate};
 pub use state::AppState;
@@ -48,6 +51,7 @@ pub use stream::stream;
 pub use systems::{
     LimitsView, MethodInfoView, ParamView, PresetView, SystemView, SystemsResponse, systems,
 };
+pub use verdict_view::{CRITERION, VerdictView, Verdicts};
 
 use axum::Router;
 use axum::body::Body;
@@ -74,6 +78,7 @@ pub fn app(state: AppState) -> Router {
         .route("/health", get(health))
         .route("/systems", get(systems))
         .route("/simulate", post(simulate))
+        .route("/scorecard", post(scorecard))
         .route("/openapi.json", get(openapi_json))
         .fallback(page)
         .method_not_allowed_fallback(|method: Method, uri: Uri| async move {

@@ -3,7 +3,7 @@
 //! core's registry, so a fuzzer generates meaningful bodies.
 
 use crate::events::{DoneEvent, PointsEvent, ProgressEvent, RunEvent};
-use crate::{ErrorBody, SceneView};
+use crate::{ErrorBody, SceneView, VerdictView};
 use axum::Json;
 use utoipa::OpenApi;
 
@@ -14,10 +14,25 @@ use utoipa::OpenApi;
         title = "nhlab",
         description = "Long-time behaviour of nonholonomic integrators (Modin & Verdier): \
             test systems, the integrators of the literature and the error of every first \
-            integral over time."
+            integral over time, each judged exact, bounded or drift; a scorecard of methods × \
+            scenes with the methods' measured reversibility and fibration preservation."
     ),
-    paths(crate::simulate::simulate, crate::systems::systems, crate::health::health, openapi_json),
-    components(schemas(SceneView, ProgressEvent, PointsEvent, RunEvent, DoneEvent, ErrorBody))
+    paths(
+        crate::simulate::simulate,
+        crate::scorecard::scorecard,
+        crate::systems::systems,
+        crate::health::health,
+        openapi_json
+    ),
+    components(schemas(
+        SceneView,
+        VerdictView,
+        ProgressEvent,
+        PointsEvent,
+        RunEvent,
+        DoneEvent,
+        ErrorBody
+    ))
 )]
 pub struct ApiDoc;
 

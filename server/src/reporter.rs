@@ -1,12 +1,14 @@
 //! [`Reporter`]: the observer of a streamed run. It batches new buckets and, a few times a
 //! second, sends them as `points` events followed by a `progress` event into the stream's
 //! bounded channel (blocking the run when the client reads slowly). It stops the run when
-//! the request is cancelled or the channel is closed (the client went away).
+//! the request is cancelled or the channel is closed (the client went away). It also keeps
+//! the whole series for their verdicts ([`Verdicts`]), sent with the `run` event.
 
 use crate::events::{PointsEvent, ProgressEvent, event};
-use crate::{Cancel, SeriesView};
+use crate::{Cancel, SeriesView, VerdictView, Verdicts};
 use axum::response::sse::Event;
 use nhlab_core::{Bucket, Integral, Observer};
+use std::collections::BTreeMap;
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 use tokio::sync::mpsc::Sender;
@@ -19,6 +21,7 @@ pub struct Reporter {
     tx: Sender<Event>,
     cancel: Cancel,
     pending: Vec<(Integral, SeriesView)>,
+    verdicts: Verdicts,
     last: Instant,
     every: Duration,
 }
@@ -26,7 +29,16 @@ pub struct Reporter {
 impl Reporter {
     /// A reporter for run `run` of `steps` steps, reporting every `every`.
     pub fn new(run: usize, steps: u64, every: Duration, tx: Sender<Event>, cancel: Cancel) -> Self {
-        Self { run, steps, tx, cancel, pending: Vec::new(), last: Instant::now(), every }
+        Self {
+            run,
+            steps,
+            tx,
+            cancel,
+            pending: Vec::new(),
+            verdicts: Verdicts::default(),
+            last: Instant::now(),
+            every,
+        }
     }
 
     /// The `points` events of the buckets not sent yet (the coordinator sends the last ones
@@ -43,13 +55,23 @@ impl Reporter {
             .collect()
     }
 
+    /// The verdict of every series (by integral id), once the run has ended.
+    pub fn verdicts(&self) -> BTreeMap<String, VerdictView> {
+        self.verdicts.all()
+    }
+
     fn send(&self, ev: Event) -> bool {
         self.tx.blocking_send(ev).is_ok()
     }
 }
 
 impl Observer for Reporter {
+    fn initial(&mut self, integral: Integral, value: f64) {
+        self.verdicts.initial(integral, value);
+    }
+
     fn points(&mut self, integral: Integral, bucket: Bucket) {
+        self.verdicts.push(integral, bucket);
         match self.pending.iter_mut().find(|(i, _)| *i == integral) {
             Some((_, series)) => series.push(bucket),
             None => {

@@ -107,3 +107,59 @@ impl<'de> Visitor<'de> for MethodVisitor {
         Ok(MethodRequest { id, params })
     }
 }
+
+/// One scene of a `POST /scorecard`: a `/simulate` body without `methods` and `points`.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SceneSpec {
+    /// System id (see `GET /systems`).
+    #[schema(schema_with = schemas::system_id)]
+    pub system: String,
+    /// Preset id (default: the system's first preset).
+    #[serde(default)]
+    pub preset: Option<String>,
+    /// Parameter overrides by name.
+    #[serde(default)]
+    #[schema(schema_with = schemas::params)]
+    pub params: Option<BTreeMap<String, f64>>,
+    /// Initial configuration.
+    #[serde(default)]
+    pub q: Option<Vec<f64>>,
+    /// Initial velocity, consistent with the constraints.
+    #[serde(default)]
+    pub v: Option<Vec<f64>>,
+    /// Step size, positive.
+    #[serde(default)]
+    #[schema(exclusive_minimum = 0.0)]
+    pub step: Option<f64>,
+    /// Final time, at least one step.
+    #[serde(default)]
+    #[schema(exclusive_minimum = 0.0)]
+    pub t_end: Option<f64>,
+    /// Integrals to judge (default: all the system has).
+    #[serde(default)]
+    #[schema(schema_with = schemas::integrals)]
+    pub integrals: Option<Vec<String>>,
+}
+
+impl SceneSpec {
+    /// The `/simulate` body of this scene with `methods` and `points`.
+    pub fn into_simulate(
+        self,
+        methods: Vec<MethodRequest>,
+        points: Option<i64>,
+    ) -> SimulateRequest {
+        SimulateRequest {
+            system: self.system,
+            preset: self.preset,
+            params: self.params,
+            q: self.q,
+            v: self.v,
+            step: self.step,
+            t_end: self.t_end,
+            methods: Some(methods),
+            integrals: self.integrals,
+            points,
+        }
+    }
+}

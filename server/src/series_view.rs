@@ -1,6 +1,9 @@
 //! [`SeriesView`]: one integral's error series as columns `t`, `mean`, `max` (the core's
-//! buckets). Non-finite values (a diverging run) are written as JSON `null`.
+//! buckets). Non-finite values (a diverging run) are written as JSON `null`. In the JSON
+//! response each series also carries its [`VerdictView`]; a stream's `points` events carry
+//! none (the `run` event has the verdicts, which need the whole series).
 
+use crate::VerdictView;
 use nhlab_core::Bucket;
 use serde::Serialize;
 use utoipa::ToSchema;
@@ -14,6 +17,11 @@ pub struct SeriesView {
     pub mean: Vec<Option<f64>>,
     /// Max error over each bucket (null if not finite).
     pub max: Vec<Option<f64>>,
+    /// What the series does over time (JSON response only, null for an empty series; left
+    /// out of `points` events).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<VerdictView>)]
+    pub verdict: Option<Option<VerdictView>>,
 }
 
 fn finite(x: f64) -> Option<f64> {

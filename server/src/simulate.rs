@@ -102,7 +102,7 @@ async fn run(state: &AppState, plan: Plan) -> Result<SimulateResponse, AppError>
             error: outcome.error.map(|e| e.to_string()),
             steps: outcome.steps,
             elapsed_ms: finished.elapsed_ms,
-            series: finished.observer.series,
+            series: finished.observer.into_series(),
         });
     }
     Ok(SimulateResponse { scene: plan.scene, runs })

@@ -55,10 +55,11 @@ async fn coordinate(
         .collect();
     let mut failed = 0;
     while let Some((i, joined)) = runs.next().await {
-        let mut events = Vec::new();
+        let (mut events, mut verdicts) = (Vec::new(), Default::default());
         let (status, error, steps, elapsed_ms) = match joined {
             Ok(mut finished) => {
                 events = finished.observer.take_points();
+                verdicts = finished.observer.verdicts();
                 match finished.outcome {
                     Ok(outcome) => (
                         Status::of(&outcome),
@@ -78,7 +79,8 @@ async fn coordinate(
         };
         failed += usize::from(status == Status::Failed);
         let method = plan.scene.methods[i].clone();
-        events.push(event("run", &RunEvent { run: i, method, status, error, steps, elapsed_ms }));
+        let run = RunEvent { run: i, method, status, error, steps, elapsed_ms, verdicts };
+        events.push(event("run", &run));
         for ev in events {
             if tx.send(ev).await.is_err() {
                 cancel.cancel();
