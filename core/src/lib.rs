@@ -27,6 +27,7 @@ pub mod simulate;
 pub mod state;
 pub mod system;
 pub mod systems;
+pub mod work_precision;
 
 pub use bucket::{Bucket, Bucketer};
 pub use classify::{Verdict, VerdictKind, classify};

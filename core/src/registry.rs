@@ -9,6 +9,7 @@ use crate::latitude::LatitudeAxis;
 use crate::method::{Integrator, MethodInfo};
 use crate::methods::{Dd, DdAvf, Dla, Dla01, Leapfrog, Rk4};
 use crate::properties::{self, Properties};
+use crate::reference::{self, ReferenceError};
 use crate::scene::{PreparedScene, Scene};
 use crate::simulate::{self, Observer, Problem, RunConfig, RunOutcome};
 use crate::system::{System, SystemInfo};
@@ -171,6 +172,22 @@ pub struct SystemEntry {
     pub(crate) latitude: fn(&Scene) -> Result<LatitudeAxis, InputError>,
     pub(crate) run: fn(&PreparedScene, &Method, &RunConfig, &mut dyn Observer) -> RunOutcome,
     pub(crate) properties: fn(&Scene, &Method) -> Result<Properties, StepFailure>,
+    pub(crate) reference: fn(&Scene, f64) -> Result<ReferenceState, ReferenceError>,
+}
+
+/// A reference solution at t_end, sizes erased.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReferenceState {
+    /// Configuration.
+    pub q: Vec<f64>,
+    /// Velocity.
+    pub v: Vec<f64>,
+    /// `|A(q) q̇|` at t_end.
+    pub constraint_residual: f64,
+    /// Right-hand-side evaluations.
+    pub evaluations: u32,
+    /// Accepted steps.
+    pub steps: u32,
 }
 
 impl std::fmt::Debug for SystemEntry {
@@ -197,6 +214,17 @@ impl SystemEntry {
             latitude: |scene| {
                 let (q, v) = vectors::<N>(scene);
                 LatitudeAxis::compute(&S::new(&scene.params), &q, &v)
+            },
+            reference: |scene, tol| {
+                let (q, v) = vectors::<N>(scene);
+                let r = reference::reference(&S::new(&scene.params), &q, &v, scene.t_end, tol)?;
+                Ok(ReferenceState {
+                    q: r.q.as_slice().to_vec(),
+                    v: r.v.as_slice().to_vec(),
+                    constraint_residual: r.constraint_residual,
+                    evaluations: r.evaluations,
+                    steps: r.steps,
+                })
             },
             properties: |scene, method| {
                 let sys = S::new(&scene.params);

@@ -149,6 +149,14 @@ impl Scene {
         (self.system.properties)(self, method)
     }
 
+    /// The Dop853 reference solution at t_end (see [`crate::reference`]).
+    pub fn reference(
+        &self,
+        tol: f64,
+    ) -> Result<crate::registry::ReferenceState, crate::reference::ReferenceError> {
+        (self.system.reference)(self, tol)
+    }
+
     /// Checks `integrals` against the system (all it has when `None`) and computes the
     /// latitude's axis when the latitude is among them.
     pub fn prepare(self, integrals: Option<&[String]>) -> Result<PreparedScene, InputError> {

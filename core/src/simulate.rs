@@ -21,6 +21,8 @@ pub trait Observer {
     fn initial(&mut self, _integral: Integral, _value: f64) {}
     /// A completed bucket of one integral's error series.
     fn points(&mut self, integral: Integral, bucket: Bucket);
+    /// The final state of a run that reached t_end (work–precision measures it).
+    fn finish(&mut self, _q: &[f64], _v: &[f64]) {}
     /// Called every [`RunConfig::progress_every`] steps; `Break` cancels the run.
     fn progress(&mut self, _steps_done: u64, _t: f64) -> ControlFlow<()> {
         ControlFlow::Continue(())
@@ -197,5 +199,6 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
     {
         observer.points(Integral::Latitude, b);
     }
+    observer.finish(st.q.as_slice(), st.v.as_slice());
     RunOutcome { steps: problem.steps, error: None }
 }
