@@ -11,7 +11,11 @@
 //! 3. a long run shows curves before it ends, and Cancel stops it;
 //! 4. editing the form rewrites the URL, and that URL restores the form;
 //! 5. a link with a bad parameter and `run=1` fills the form, runs by itself, and shows the
-//!    server's error next to the field its `path` names.
+//!    server's error next to the field its `path` names;
+//! 6. `?view=paper` draws every panel of the paper's four figures (five curves with data
+//!    each) with a verdict per method under it (`paper.png`, `paper-cvt.png`);
+//! 7. `?view=scorecard` shows a verdict cell for every method × paper scene × integral and
+//!    the property marks (`scorecard.png`); clicking a cell runs that scene in the main view.
 //!
 //! Chromium and chromedriver are required, not optional: without them the test fails and
 //! says how to install them. `NHLAB_CHROMIUM` / `NHLAB_CHROMEDRIVER` override their paths.
@@ -50,7 +54,9 @@ async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), S
     failed_runs(client, driver, base).await?;
     cancel(client, driver, base).await?;
     form_in_the_url(client, driver, base).await?;
-    bad_parameter_link(client, base).await
+    bad_parameter_link(client, base).await?;
+    paper_view(client, driver, base).await?;
+    scorecard_view(client, driver, base).await
 }
 
 /// One click on the paper's knife-edge experiment.
@@ -254,6 +260,185 @@ async fn bad_parameter_link(client: &Client, base: &str) -> Result<(), String> {
     assert!(message.contains("epsilon"), "the server's message sits next to the field: {field}");
     screenshot(client, "bad-parameter.png").await;
     Ok(())
+}
+
+/// The Paper view: four figures, fourteen panels, each with its five curves drawn and a
+/// verdict per method.
+async fn paper_view(client: &Client, driver: &Driver, base: &str) -> Result<(), String> {
+    // The previous scenario's expected 422 is still in the log: start from a clean one.
+    driver.browser_log(client).await?;
+    let link = format!("{base}?view=paper");
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    let (state, text) = wait_for_view(client, "view-paper").await?;
+    let shot = screenshot(client, "paper.png").await;
+    assert_eq!(state, "done", "the paper view finished with {text:?} ({shot})");
+    let report = js(client, PAPER_REPORT).await?;
+    let figures = report["figures"].as_array().ok_or("no figures")?;
+    assert_eq!(
+        figures,
+        &[
+            json!("knife-energy"),
+            json!("cvt-passenger"),
+            json!("cvt-driver"),
+            json!("cvt-latitude")
+        ],
+        "{report}"
+    );
+    let panels = report["panels"].as_array().ok_or("no panels")?;
+    assert_eq!(panels.len(), 2 + 3 * 4, "two knife-edge panels, four per CVT figure: {report}");
+    for p in panels {
+        let series = p["series"].as_array().ok_or_else(|| format!("panel without a chart: {p}"))?;
+        let labels: Vec<&str> = series.iter().map(|s| s["label"].as_str().unwrap_or("?")).collect();
+        assert_eq!(labels, ["DLA^0.5", "DLA^0.4", "DLA^{0,1}", "LF", "DD"], "{p}");
+        for s in series {
+            assert_eq!(s["drawn"], json!(true), "a curve is not drawn: {p}");
+            assert!(s["points"].as_u64().unwrap_or(0) >= 50, "a curve lacks data: {p}");
+        }
+        let kinds = p["verdicts"].as_array().ok_or("no verdict row")?;
+        assert_eq!(kinds.len(), 5, "one verdict per method: {p}");
+        assert!(
+            kinds.iter().all(|k| ["exact", "bounded", "drift"].contains(&k.as_str().unwrap_or(""))),
+            "every verdict is known: {p}"
+        );
+        assert!(!p["caption"].as_str().unwrap_or("").is_empty(), "a figure lacks its caption: {p}");
+    }
+    let knife = &panels[0];
+    assert_eq!(knife["scene"], "knife_edge/paper");
+    assert_eq!(
+        knife["verdicts"],
+        json!(["bounded", "drift", "bounded", "bounded", "exact"]),
+        "the paper's knife-edge row: {knife}"
+    );
+    js(client, "document.querySelector('[data-figure=\"cvt-latitude\"]').scrollIntoView();")
+        .await?;
+    screenshot(client, "paper-cvt.png").await;
+    console_clean(driver, client, "paper view").await?;
+    println!("paper view: {} panels drawn with verdicts; screenshot {shot}", panels.len());
+    Ok(())
+}
+
+/// Panels of the paper view: scene, integral, uPlot series, verdict row and caption.
+const PAPER_REPORT: &str = r#"
+const figures = [...document.querySelectorAll('#view-paper .paper-figure')];
+return {
+  figures: figures.map((f) => f.dataset.figure),
+  panels: figures.flatMap((f) => [...f.querySelectorAll('.paper-panel')].map((p) => {
+    const u = p.querySelector('.plot-card')?.uplot;
+    return {
+      scene: p.dataset.scene,
+      integral: p.dataset.integral,
+      caption: f.querySelector('figcaption')?.textContent ?? '',
+      series: u ? u.series.slice(1).map((s, i) => ({
+        label: s.label,
+        drawn: !!(s._paths && s._paths.stroke),
+        points: u.data[i + 1].filter((v) => v !== null && v !== undefined).length,
+      })) : null,
+      verdicts: [...p.querySelectorAll('.verdict-chip')].map((c) => c.dataset.kind),
+    };
+  })),
+};
+"#;
+
+/// The Scorecard view: a cell per method × scene × integral, property marks, and a cell
+/// that opens its scene.
+async fn scorecard_view(client: &Client, driver: &Driver, base: &str) -> Result<(), String> {
+    let link = format!("{base}?view=scorecard");
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    let (state, text) = wait_for_view(client, "view-scorecard").await?;
+    let shot = screenshot(client, "scorecard.png").await;
+    assert_eq!(state, "done", "the scorecard finished with {text:?} ({shot})");
+    let report = js(client, SCORECARD_REPORT).await?;
+    let rows = report["rows"].as_array().ok_or("no rows")?;
+    let labels: Vec<&str> = rows.iter().map(|r| r["method"].as_str().unwrap_or("?")).collect();
+    assert_eq!(labels, ["DLA^0.5", "DLA^0.4", "DLA^{0,1}", "LF", "DD", "DD-AVF", "RK4"]);
+    let paper_scenes = [
+        "knife_edge/paper",
+        "knife_edge/paper-perturbed",
+        "cvt_pendulum/oscillating",
+        "cvt_pendulum/rotating",
+        "cvt_pendulum/oscillating-perturbed",
+        "cvt_pendulum/rotating-perturbed",
+    ];
+    for row in rows {
+        let cells = row["cells"].as_array().ok_or("no cells")?;
+        for scene in paper_scenes {
+            let n = cells.iter().filter(|c| c["scene"] == scene).count();
+            assert!(n >= 3, "{}: {n} cells for {scene}: {row}", row["method"]);
+        }
+        assert!(
+            cells
+                .iter()
+                .all(|c| ["exact", "bounded", "drift"].contains(&c["kind"].as_str().unwrap_or(""))),
+            "every cell has a verdict: {row}"
+        );
+        let marks = row["marks"].as_object().ok_or("no property marks")?;
+        assert_eq!(marks.len(), 4, "reversible and fibration on two systems: {row}");
+        assert!(marks.values().all(|m| m == "yes" || m == "no"), "{row}");
+    }
+    let mark = |method: usize, key: &str| rows[method]["marks"][key].clone();
+    assert_eq!(mark(1, "knife_edge.reversible"), "no", "DLA^0.4 is not reversible");
+    assert_eq!(mark(4, "cvt_pendulum.reversible"), "yes", "DD is reversible");
+    assert_eq!(mark(4, "cvt_pendulum.preserves_fibration"), "no", "DD breaks the fibration");
+    assert_eq!(mark(3, "cvt_pendulum.preserves_fibration"), "yes", "LF keeps it");
+    assert!(!report["criterion"].as_str().unwrap_or("").is_empty(), "the criterion is shown");
+    console_clean(driver, client, "scorecard view").await?;
+
+    // A cell opens its scene, with the scorecard's seven methods, in the main view.
+    let cell = r#"#view-scorecard td.verdict-cell[data-scene="cvt_pendulum/rotating"][data-integral="latitude"]"#;
+    client
+        .find(Locator::Css(cell))
+        .await
+        .map_err(|e| format!("no cell {cell}: {e}"))?
+        .click()
+        .await
+        .map_err(|e| format!("cannot click {cell}: {e}"))?;
+    let (state, text) = wait_for_status(client).await?;
+    assert_eq!(state, "done", "the opened scene ran: {text:?}");
+    let opened = js(
+        client,
+        r#"return [location.search, document.getElementById('view-main').hidden,
+                   document.querySelectorAll('#runs tr.run').length];"#,
+    )
+    .await?;
+    let url = opened[0].as_str().unwrap_or_default();
+    assert!(url.contains("system=cvt_pendulum") && url.contains("preset=rotating"), "{opened}");
+    assert_eq!(opened[1], json!(false), "the main view is shown: {opened}");
+    assert_eq!(opened[2], json!(7), "the scorecard's seven methods ran: {opened}");
+    screenshot(client, "scorecard-opened.png").await;
+    console_clean(driver, client, "scorecard cell").await?;
+    println!("scorecard view: 7 methods × 6 scenes with property marks; screenshot {shot}");
+    Ok(())
+}
+
+/// The scorecard grid: per method row its verdict cells and property marks.
+const SCORECARD_REPORT: &str = r#"
+return {
+  criterion: document.querySelector('#view-scorecard .criterion')?.textContent ?? '',
+  rows: [...document.querySelectorAll('#view-scorecard table.scorecard tbody tr')].map((tr) => ({
+    method: tr.dataset.method,
+    cells: [...tr.querySelectorAll('td.verdict-cell')].map((c) => ({ scene: c.dataset.scene, integral: c.dataset.integral, kind: c.dataset.kind })),
+    marks: Object.fromEntries([...tr.querySelectorAll('td.prop')].map((c) => [`${c.dataset.system}.${c.dataset.property}`, c.dataset.mark])),
+  })),
+};
+"#;
+
+/// Polls a view's status line until its computation is over; returns its state and text.
+async fn wait_for_view(client: &Client, view: &str) -> Result<(String, String), String> {
+    let start = Instant::now();
+    let script = format!(
+        "const s = document.querySelector('#{view} .view-status'); return s ? [s.dataset.state, s.textContent] : ['', ''];"
+    );
+    loop {
+        let v = js(client, &script).await?;
+        let state = v[0].as_str().unwrap_or_default().to_owned();
+        if !matches!(state.as_str(), "idle" | "running" | "") {
+            return Ok((state, v[1].as_str().unwrap_or_default().to_owned()));
+        }
+        if start.elapsed() > RUN_TIMEOUT {
+            return Err(format!("#{view} did not finish within {RUN_TIMEOUT:?}: {v}"));
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
 }
 
 /// What the energy chart drew: uPlot's series (after the x series), legend labels and run statuses.

@@ -7,11 +7,12 @@ import { EventSourceParserStream } from 'eventsource-parser/stream';
 
 /** An error response of the API: `{"error", "path"}` with its HTTP status. */
 export class ApiError extends Error {
-  constructor(status, message, path) {
+  constructor(status, message, path, retryAfter) {
     super(message);
     this.name = 'ApiError';
     this.status = status;
     this.path = path ?? null;
+    this.retryAfter = retryAfter ?? null;
   }
 }
 
@@ -23,7 +24,8 @@ async function errorFrom(response) {
     // Not JSON (a proxy's page, say): fall back to the status line.
   }
   const message = body?.error ?? `${response.status} ${response.statusText || 'error'}`;
-  return new ApiError(response.status, message, body?.path);
+  const retry = Number(response.headers.get('Retry-After'));
+  return new ApiError(response.status, message, body?.path, Number.isFinite(retry) && retry > 0 ? retry : null);
 }
 
 /** `GET /systems`. */
@@ -56,4 +58,21 @@ export async function simulate(body, { signal, onEvent }) {
     const data = value.data === '' ? null : JSON.parse(value.data);
     onEvent(value.event ?? 'message', data);
   }
+}
+
+/** `POST /scorecard` (JSON). Rejects with an ApiError for a 4xx/5xx answer. */
+export async function fetchScorecard(body, { signal } = {}) {
+  const response = await fetch('scorecard', {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json', Accept: 'application/json' },
+    body: JSON.stringify(body),
+    signal,
+  });
+  if (!response.ok) throw await errorFrom(response);
+  return response.json();
+}
+
+/** Seconds to wait before retrying a 503 (the server's `Retry-After`, else 1). */
+export function retryAfter(error) {
+  return error instanceof ApiError && error.status === 503 ? error.retryAfter ?? 1 : null;
 }

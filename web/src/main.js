@@ -1,11 +1,15 @@
 // The page's wiring: load the catalog, restore the state from the URL, run a simulation on
 // submit (or when the URL says run=1), feed the stream into a Result and redraw the plots,
-// progress and runs table once per animation frame. Cancel aborts the fetch.
+// progress and runs table once per animation frame. Cancel aborts the fetch. Two more views,
+// Scorecard and Paper, live in the URL as `?view=scorecard` / `?view=paper`; clicking a
+// scorecard cell opens its scene here.
 
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
 import { ApiError, fetchCatalog, simulate } from './api.js';
 import { Form } from './form.js';
+import { PaperView } from './paper.js';
+import { ScorecardView } from './scorecard.js';
 import { Plots } from './plots.js';
 import { Result } from './result.js';
 import { renderRuns } from './runs.js';
@@ -19,6 +23,8 @@ let plots;
 let result = null;
 let controller = null;
 let frame = 0;
+let view = 'main';
+const views = {};
 
 async function start() {
   try {
@@ -35,8 +41,57 @@ async function start() {
   form.fill(state);
   if (warnings.length) banner($('load-error'), warnings.join('; '));
   wire();
-  if (state.run) run();
-  else syncURL();
+  views.scorecard = new ScorecardView($('view-scorecard'), { catalog, onOpen: openScene });
+  views.paper = new PaperView($('view-paper'));
+  const wanted = new URLSearchParams(location.search).get('view');
+  if (Object.hasOwn(views, wanted ?? '')) {
+    setView(wanted);
+  } else {
+    setView('main');
+    if (state.run) run();
+    else syncURL();
+  }
+}
+
+// Shows one view; `push` adds a history entry (a tab click), else the URL stays.
+function setView(name, push = false) {
+  view = Object.hasOwn(views, name) ? name : 'main';
+  $('view-main').hidden = view !== 'main';
+  for (const [id, v] of Object.entries(views)) v.root.hidden = id !== view;
+  for (const tab of document.querySelectorAll('.tabs .tab')) {
+    tab.classList.toggle('active', tab.dataset.view === view);
+    if (tab.dataset.view === view) tab.setAttribute('aria-current', 'page');
+    else tab.removeAttribute('aria-current');
+  }
+  if (push) {
+    if (view === 'main') {
+      const { state } = form.read();
+      history.pushState(null, '', `?${encodeState({ ...state, run: false }, catalog)}`);
+    } else history.pushState(null, '', `?view=${view}`);
+  }
+  views[view]?.show();
+}
+
+// A scorecard cell: its scene, with the scorecard's methods, run here.
+function openScene(scene, methods) {
+  const state = defaultState(catalog, scene.system, scene.preset);
+  Object.assign(state, {
+    params: { ...scene.params },
+    q: [...scene.q],
+    v: [...scene.v],
+    step: scene.step,
+    t_end: scene.t_end,
+    points: scene.points,
+    integrals: [...scene.integrals],
+    smooth: true,
+    methods: methods.map((m) => ({
+      id: m.id,
+      params: Object.fromEntries(Object.entries(m).filter(([k]) => k !== 'id' && k !== 'label')),
+    })),
+  });
+  form.fill(state);
+  setView('main', true);
+  run();
 }
 
 function experimentButtons() {
@@ -61,6 +116,20 @@ function experimentButtons() {
 }
 
 function wire() {
+  for (const tab of document.querySelectorAll('.tabs .tab')) {
+    tab.addEventListener('click', (e) => {
+      e.preventDefault();
+      if (tab.dataset.view !== view) setView(tab.dataset.view, true);
+    });
+  }
+  window.addEventListener('popstate', () => {
+    const wanted = new URLSearchParams(location.search).get('view');
+    if (Object.hasOwn(views, wanted ?? '')) setView(wanted);
+    else {
+      form.fill(decodeState(location.search, catalog).state);
+      setView('main');
+    }
+  });
   form.el.addEventListener('submit', (e) => {
     e.preventDefault();
     run();

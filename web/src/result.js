@@ -21,6 +21,7 @@ export class Result {
       steps: null,
       elapsed_ms: null,
       fraction: 0,
+      verdicts: null,
       series: Object.fromEntries(integrals.map((i) => [i, { t: [], mean: [], max: [] }])),
     }));
   }
@@ -49,6 +50,7 @@ export class Result {
     run.error = ev.error ?? null;
     run.steps = ev.steps ?? null;
     run.elapsed_ms = ev.elapsed_ms ?? null;
+    run.verdicts = ev.verdicts ?? null;
     if (run.status === 'ok') run.fraction = 1;
   }
 
@@ -74,7 +76,10 @@ export class Result {
         error: r.error,
         steps: r.steps,
         elapsed_ms: r.elapsed_ms,
-        series: r.series,
+        // As the JSON response: each series with its verdict (from the `run` event).
+        series: Object.fromEntries(
+          Object.entries(r.series).map(([k, s]) => [k, { ...s, verdict: r.verdicts?.[k] ?? null }]),
+        ),
       })),
     };
   }

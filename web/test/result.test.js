@@ -50,3 +50,13 @@ test('labels fall back to the paper names', () => {
   assert.equal(methodLabel({ id: 'dla', alpha: 0.4 }), 'DLA^0.4');
   assert.equal(methodLabel({ id: 'leapfrog' }), 'LF');
 });
+
+test('the run event carries the verdicts; the JSON download puts each on its series', () => {
+  const r = new Result(scene);
+  const verdict = { kind: 'drift', max: 2, early: 0.1, late: 1, ratio: 10 };
+  r.addPoints({ run: 0, integral: 'energy', t: [1], mean: [0.5], max: [1] });
+  r.finishRun({ run: 0, status: 'ok', steps: 1, elapsed_ms: 1, verdicts: { energy: verdict } });
+  assert.deepEqual(r.runs[0].verdicts, { energy: verdict });
+  assert.deepEqual(r.toJSON().runs[0].series.energy.verdict, verdict);
+  assert.equal(r.toJSON().runs[1].series.energy.verdict, null, 'no verdict before the run ends');
+});

@@ -1,0 +1,53 @@
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import { propertyMark, systemsOf, verdictTitle } from '../src/verdicts.js';
+
+const methods = [{ id: 'dd', label: 'DD' }, { id: 'leapfrog', label: 'LF' }];
+const prop = (method, system, scene, reversible, fibration) => ({
+  method, system, scene, reversible, preserves_fibration: fibration,
+  reversibility_defect: 1e-17, driver_coupling: fibration ? 0 : 3e-6, fiber_coupling: 0, constraint_defect: 1e-16, error: null,
+});
+// Scene-major, like the server: every method on scene 1, then on scene 2, …
+const card = {
+  methods,
+  scenes: [
+    { id: 'knife_edge/paper', scene: { system: 'knife_edge' } },
+    { id: 'cvt_pendulum/oscillating', scene: { system: 'cvt_pendulum' } },
+    { id: 'cvt_pendulum/rotating', scene: { system: 'cvt_pendulum' } },
+  ],
+  properties: [
+    prop(methods[0], 'knife_edge', 'knife_edge/paper', true, true),
+    prop(methods[1], 'knife_edge', 'knife_edge/paper', true, true),
+    prop(methods[0], 'cvt_pendulum', 'cvt_pendulum/oscillating', true, false),
+    prop(methods[1], 'cvt_pendulum', 'cvt_pendulum/oscillating', true, true),
+    prop(methods[0], 'cvt_pendulum', 'cvt_pendulum/rotating', true, true),
+    prop(methods[1], 'cvt_pendulum', 'cvt_pendulum/rotating', false, true),
+  ],
+};
+
+test('scenes group by system in order of appearance', () => {
+  assert.deepEqual(systemsOf(card), [
+    ['knife_edge', ['knife_edge/paper']],
+    ['cvt_pendulum', ['cvt_pendulum/oscillating', 'cvt_pendulum/rotating']],
+  ]);
+});
+
+test("a method's property per system: yes, no or mixed over the system's scenes, numbers on hover", () => {
+  assert.equal(propertyMark(card, 0, 'knife_edge', 'preserves_fibration').mark, 'yes');
+  const dd = propertyMark(card, 0, 'cvt_pendulum', 'preserves_fibration');
+  assert.equal(dd.mark, 'mixed');
+  assert.match(dd.title, /driver coupling 3\.00e-6/);
+  assert.equal(propertyMark(card, 1, 'cvt_pendulum', 'reversible').mark, 'mixed');
+  assert.equal(propertyMark(card, 1, 'cvt_pendulum', 'preserves_fibration').mark, 'yes');
+  const failed = { ...card, properties: card.properties.map((p) => ({ ...p, reversible: null, error: 'a step failed' })) };
+  const unknown = propertyMark(failed, 0, 'knife_edge', 'reversible');
+  assert.equal(unknown.mark, 'unknown');
+  assert.match(unknown.title, /a step failed/);
+});
+
+test('a verdict title gives the numbers behind it; an infinite ratio is written ∞', () => {
+  const t = verdictTitle({ kind: 'drift', max: 3.68, early: 0.0755, late: 3.29, ratio: 43.56 }, 'DLA^0.4: ');
+  assert.equal(t, 'DLA^0.4: drift: max 3.68e+0, early max 7.55e-2, late mean 3.29e+0, late/early 43.56');
+  assert.match(verdictTitle({ kind: 'drift', max: 1, early: 0, late: 1, ratio: null }), /late\/early ∞/);
+  assert.match(verdictTitle(null), /no verdict/);
+});
