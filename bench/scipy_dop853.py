@@ -1,0 +1,72 @@
+#!/usr/bin/env python3
+"""What a user would pick instead of nhlab: SciPy's solve_ivp(method="DOP853") on the same
+reduced ODE (MATH.md §1, multiplier eliminated), on the two work–precision scenes of
+docs/benchmarks.md. Prints CSV: scene,method,rtol,elapsed_ms,final_error, the error taken
+against a tight SciPy solve (rtol = atol = 1e-13). Time is the minimum of 3 runs.
+
+    pip install scipy && python3 bench/scipy_dop853.py > target/wp_scipy.csv
+"""
+import math
+import time
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+
+def knife_edge(eps):
+    def rhs(t, y):
+        x1, x2, z, v1, v2, vz = y
+        s, c = math.sin(z), math.cos(z)
+        a = np.array([-s, c - eps, 0.0])
+        da = np.array([-c, -s, 0.0]) * vz
+        grad = np.array([-1.0, 0.0, 0.0])
+        v = np.array([v1, v2, vz])
+        lam = (a @ grad - da @ v) / (a @ a)
+        acc = a * lam - grad
+        return [v1, v2, vz, acc[0], acc[1], acc[2]]
+
+    return rhs
+
+
+def cvt_pendulum(eps):
+    def rhs(t, y):
+        x1, x2, z, v1, v2, vz = y
+        s, c = math.sin(z), math.cos(z)
+        a = np.array([1.0, s, 0.0])
+        da = np.array([0.0, c, 0.0]) * vz
+        grad = np.array([x1, x2, s - eps * math.cos(2 * z)])
+        v = np.array([v1, v2, vz])
+        lam = (a @ grad - da @ v) / (a @ a)
+        acc = a * lam - grad
+        return [v1, v2, vz, acc[0], acc[1], acc[2]]
+
+    return rhs
+
+
+SCENES = [
+    ("knife_edge/paper", knife_edge(0.0), [0, 0, math.pi / 2, 0, 0, 1.0], 100.0),
+    ("cvt_pendulum/rotating-perturbed", cvt_pendulum(0.5), [1, 1, 0, 0, 0, 2.82842712], 3000.0),
+]
+
+
+def solve(rhs, y0, t_end, rtol):
+    return solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=rtol, atol=rtol).y[:, -1]
+
+
+def main():
+    print("scene,method,rtol,elapsed_ms,final_error")
+    for name, rhs, y0, t_end in SCENES:
+        ref = solve(rhs, y0, t_end, 1e-13)
+        for k in range(3, 13):
+            rtol = 10.0 ** -k
+            best = math.inf
+            for _ in range(3):
+                t = time.perf_counter()
+                y = solve(rhs, y0, t_end, rtol)
+                best = min(best, (time.perf_counter() - t) * 1e3)
+            err = float(np.max(np.abs(y - ref)))
+            print(f"{name},scipy DOP853,{rtol:.0e},{best:.3f},{err:.3e}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,46 @@
+//! Work–precision table of every method on the two scenes of docs/benchmarks.md: the knife
+//! edge (paper, to t = 100) and the rotating CVT with ε = 0.5 (to t = 3000), steps halved
+//! from the scene's own. Prints CSV: scene,method,step,steps,elapsed_ms,final_error.
+//! `cargo run --release -p nhlab-core --example work_precision > target/wp_nhlab.csv`
+
+use nhlab_core::work_precision::{measure, reference};
+use nhlab_core::{Method, MethodSpec, Scene, SceneRequest, method_infos};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    println!("scene,method,step,steps,elapsed_ms,final_error");
+    let scenes = [("knife_edge", "paper", 0.4, 10), ("cvt_pendulum", "rotating-perturbed", 0.2, 9)];
+    for (system, preset, h0, levels) in scenes {
+        let req = SceneRequest {
+            system: system.into(),
+            preset: Some(preset.into()),
+            ..Default::default()
+        };
+        let scene = Scene::resolve(&req)?.prepare(Some(&["energy".into()]))?;
+        let r = reference(&scene)?;
+        eprintln!(
+            "{system}/{preset}: reference {:.1} ms, {} evaluations, constraint residual {:.1e}",
+            r.elapsed_ms, r.state.evaluations, r.state.constraint_residual
+        );
+        let mut methods = Method::paper_five().to_vec();
+        for info in method_infos() {
+            if !methods.iter().any(|m| m.info().id == info.id) {
+                methods.push(Method::from_spec(&MethodSpec::new(info.id))?);
+            }
+        }
+        for m in &methods {
+            for k in 0..levels {
+                let h = h0 / 2f64.powi(k);
+                let row = measure(&scene, &r.state, m, h, 5);
+                println!(
+                    "{system}/{preset},{},{},{},{:.4},{}",
+                    m.label(),
+                    row.step,
+                    row.steps,
+                    row.elapsed_ms,
+                    row.final_error.map_or("failed".into(), |e| format!("{e:.3e}"))
+                );
+            }
+        }
+    }
+    Ok(())
+}
