@@ -1,9 +1,10 @@
 //! [`Config`]: the server's limits, with defaults that keep one request from wedging a
-//! small machine. Every limit is named in the error a request gets when it exceeds it.
+//! small machine. Every limit is named in the error a request gets when it exceeds it, and
+//! each is a flag and an environment variable of the binary (`nhlab --help`).
 
 use std::time::Duration;
 
-/// Limits on what one request may ask for.
+/// Limits on what one request may ask for, and on how much runs at once.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Config {
     /// Most steps per run for a JSON response (which holds everything until the end).
@@ -16,9 +17,21 @@ pub struct Config {
     pub max_methods: usize,
     /// Largest request body, in bytes.
     pub max_body_bytes: usize,
+    /// Most simulations (requests that compute: `/simulate`, `/scorecard`) at once; one more
+    /// gets 503 with `Retry-After` instead of waiting in a queue. A stream holds its slot
+    /// until it ends.
+    pub max_simulations: usize,
+    /// Origins allowed to call the API from a browser (CORS); empty: CORS off, only the
+    /// page's own origin. `*` allows any.
+    pub cors_origins: Vec<String>,
     /// Time between two `progress`/`points` reports of a streamed run (a few per second:
     /// enough for a live plot, few enough to cost nothing).
     pub report_every: Duration,
+    /// Debug builds only, for the fault tests: a request with exactly this `points` panics
+    /// inside its simulations. The field does not exist in release builds, so no request
+    /// can reach it in production.
+    #[cfg(debug_assertions)]
+    pub panic_on_points: Option<usize>,
 }
 
 impl Default for Config {
@@ -29,7 +42,11 @@ impl Default for Config {
             max_points: 100_000,
             max_methods: 16,
             max_body_bytes: 64 * 1024,
+            max_simulations: std::thread::available_parallelism().map_or(2, |n| n.get()),
+            cors_origins: Vec::new(),
             report_every: Duration::from_millis(200),
+            #[cfg(debug_assertions)]
+            panic_on_points: None,
         }
     }
 }

@@ -1,15 +1,20 @@
 //! [`AppError`]: every error the API returns, as `{"error": "...", "path": "methods[1].alpha"}`
 //! with a fitting status: 400 for a body that is not the JSON we read (syntax, types,
 //! unknown fields), 422 for well-formed input that is wrong (unknown names, lengths,
-//! ranges, limits), 413 for an oversized body, 500 for our own faults.
+//! ranges, limits), 413 for an oversized body, 503 (with `Retry-After`) when every simulation
+//! slot is taken or the server is shutting down, 500 for our own faults.
 
 use axum::Json;
 use axum::extract::rejection::BytesRejection;
-use axum::http::StatusCode;
+use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use nhlab_core::InputError;
 use serde::Serialize;
 use utoipa::ToSchema;
+
+/// Seconds a client should wait before retrying a 503 (simulations take milliseconds to
+/// seconds; a stream may hold its slot longer, and the client then retries again).
+pub const RETRY_AFTER_SECS: u32 = 1;
 
 /// An error response.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,6 +50,11 @@ impl AppError {
     /// A 500: our fault, not the request's.
     pub fn internal(message: impl Into<String>) -> Self {
         Self { status: StatusCode::INTERNAL_SERVER_ERROR, message: message.into(), path: None }
+    }
+
+    /// A 503: busy or shutting down; the response says when to retry (`Retry-After`).
+    pub fn unavailable(message: impl Into<String>) -> Self {
+        Self { status: StatusCode::SERVICE_UNAVAILABLE, message: message.into(), path: None }
     }
 
     /// A 405 for a method a route does not take.
@@ -104,6 +114,15 @@ impl From<serde_path_to_error::Error<serde_json::Error>> for AppError {
 }
 
 impl AppError {
+    /// A 400 for a body that is not one JSON document (e.g. trailing characters).
+    pub fn malformed(e: &serde_json::Error) -> Self {
+        Self {
+            status: StatusCode::BAD_REQUEST,
+            message: format!("malformed JSON (the body must be one JSON object): {e}"),
+            path: None,
+        }
+    }
+
     /// The error of a body that could not be read (too large: 413 naming the limit).
     pub fn body(e: BytesRejection, max_body_bytes: usize) -> Self {
         let message = if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
@@ -123,6 +142,10 @@ fn backticked<'a>(message: &'a str, prefix: &str) -> Option<&'a str> {
 impl IntoResponse for AppError {
     fn into_response(self) -> Response {
         let body = ErrorBody { error: self.message, path: self.path };
-        (self.status, Json(body)).into_response()
+        let mut response = (self.status, Json(body)).into_response();
+        if self.status == StatusCode::SERVICE_UNAVAILABLE {
+            response.headers_mut().insert(header::RETRY_AFTER, HeaderValue::from(RETRY_AFTER_SECS));
+        }
+        response
     }
 }

@@ -1,5 +1,6 @@
 //! The payloads of the stream's server-sent events, in order: `scene` (a [`SceneView`],
-//! once), then per run any number of `progress` and `points`, one `run`, and `done` last.
+//! once), then per run any number of `progress` and `points`, one `run`, and `done` last —
+//! or `shutdown` last instead when the server shuts down mid-stream (its runs stopped).
 //! Concatenating a run's `points` for an integral gives the JSON response's series exactly.
 //!
 //! [`SceneView`]: crate::SceneView
@@ -62,6 +63,18 @@ pub struct DoneEvent {
     pub runs: usize,
     /// How many failed.
     pub failed: usize,
+    /// Wall-clock time of the whole request, in milliseconds.
+    pub elapsed_ms: f64,
+}
+
+/// `shutdown`: the server is shutting down; the runs were stopped (their `run` events came
+/// before, as failed) and the stream closes. The request may be sent again later.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct ShutdownEvent {
+    /// What happened.
+    pub error: String,
+    /// Number of runs.
+    pub runs: usize,
     /// Wall-clock time of the whole request, in milliseconds.
     pub elapsed_ms: f64,
 }

@@ -1,5 +1,5 @@
 //! [`Health`]: `GET /health`, which answers from the async runtime alone (no simulation
-//! ever runs there), with the number of runs computing.
+//! ever runs there), with the simulation slots taken and the runs computing.
 
 use crate::AppState;
 use axum::Json;
@@ -10,14 +10,24 @@ use utoipa::ToSchema;
 /// The answer of `GET /health`.
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
 pub struct Health {
-    /// Always `ok`.
+    /// `ok`, or `shutting_down` (streams are ending, no new simulations).
     pub status: String,
-    /// Simulation runs computing right now.
+    /// Simulations (admitted requests) holding a slot right now.
+    pub simulations: usize,
+    /// Most simulations at once; one more gets 503.
+    pub max_simulations: usize,
+    /// Simulation runs computing right now (one per method of a simulation).
     pub active_runs: usize,
 }
 
-/// Says the server is up.
+/// Says the server is up, and how busy.
 #[utoipa::path(get, path = "/health", tag = "nhlab", responses((status = 200, body = Health)))]
 pub async fn health(State(state): State<AppState>) -> Json<Health> {
-    Json(Health { status: "ok".into(), active_runs: state.active_runs() })
+    let status = if state.is_shutting_down() { "shutting_down" } else { "ok" };
+    Json(Health {
+        status: status.into(),
+        simulations: state.busy_slots(),
+        max_simulations: state.config.max_simulations,
+        active_runs: state.active_runs(),
+    })
 }

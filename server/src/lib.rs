@@ -7,7 +7,8 @@
 //!
 //! Simulations never run on the async runtime: each method of a request is one task on the
 //! blocking pool ([`Runner`]), all in parallel, stopped through a [`Cancel`] flag when the
-//! client goes away. [`Config`] holds the limits.
+//! client goes away. At most `max_simulations` requests compute at once, each holding a
+//! [`Slot`] ([`AppState::admit`]); one more gets 503. [`Config`] holds the limits.
 #![warn(missing_docs)]
 
 mod collector;
@@ -26,6 +27,7 @@ mod scene_view;
 pub mod scorecard;
 mod series_view;
 mod simulate;
+mod slot;
 mod state;
 mod stream;
 mod systems;
@@ -46,6 +48,7 @@ pub use scene_view::{MethodView, SceneView};
 pub use scorecard::{ScorecardRequest, ScorecardResponse, scorecard};
 pub use series_view::SeriesView;
 pub use simulate::{SimulateResponse, simulate};
+pub use slot::Slot;
 pub use state::AppState;
 pub use stream::stream;
 pub use systems::{
@@ -56,14 +59,19 @@ pub use verdict_view::{CRITERION, VerdictView, Verdicts};
 use axum::Router;
 use axum::body::Body;
 use axum::extract::DefaultBodyLimit;
-use axum::http::{Method, Request, Uri};
+use axum::http::{HeaderValue, Method, Request, Uri, header};
+use axum::response::IntoResponse;
 use axum::routing::{get, post};
 use tower_http::LatencyUnit;
+use tower_http::catch_panic::CatchPanicLayer;
+use tower_http::cors::{AllowOrigin, CorsLayer};
 use tower_http::trace::{DefaultOnResponse, TraceLayer};
 use tracing::Level;
 
-/// The whole app: API, page and request logging (one line per request).
+/// The whole app: API, page, request logging (one line per request), a 500 JSON error for
+/// a handler that panics, and CORS headers only for the configured origins.
 pub fn app(state: AppState) -> Router {
+    let cors = cors(&state.config.cors_origins);
     let trace = TraceLayer::new_for_http()
         .make_span_with(|req: &Request<Body>| {
             tracing::info_span!(
@@ -74,7 +82,7 @@ pub fn app(state: AppState) -> Router {
             )
         })
         .on_response(DefaultOnResponse::new().level(Level::INFO).latency_unit(LatencyUnit::Millis));
-    Router::new()
+    let router = Router::new()
         .route("/health", get(health))
         .route("/systems", get(systems))
         .route("/simulate", post(simulate))
@@ -85,6 +93,35 @@ pub fn app(state: AppState) -> Router {
             AppError::method_not_allowed(method.as_str(), uri.path())
         })
         .layer(DefaultBodyLimit::max(state.config.max_body_bytes))
-        .layer(trace)
-        .with_state(state)
+        .layer(CatchPanicLayer::custom(|_| {
+            AppError::internal("internal error: the request handler panicked").into_response()
+        }));
+    let router = match cors {
+        Some(cors) => router.layer(cors),
+        None => router,
+    };
+    router.layer(trace).with_state(state)
+}
+
+/// CORS for `origins` (`*`: any), or none at all when the list is empty. Origins that are
+/// not valid header values are skipped with a warning (the binary checks them at start).
+fn cors(origins: &[String]) -> Option<CorsLayer> {
+    if origins.is_empty() {
+        return None;
+    }
+    let allow = if origins.iter().any(|o| o == "*") {
+        AllowOrigin::any()
+    } else {
+        AllowOrigin::list(origins.iter().filter_map(|o| {
+            HeaderValue::from_str(o)
+                .inspect_err(|_| tracing::warn!(origin = %o, "invalid CORS origin, skipped"))
+                .ok()
+        }))
+    };
+    Some(
+        CorsLayer::new()
+            .allow_origin(allow)
+            .allow_methods([Method::GET, Method::POST])
+            .allow_headers([header::CONTENT_TYPE, header::ACCEPT]),
+    )
 }

@@ -1,5 +1,10 @@
 //! `nhlab`: serves the API and the page on `--addr` (or `NHLAB_ADDR`, default
-//! 127.0.0.1:8080) until Ctrl-C or SIGTERM.
+//! 127.0.0.1:8080) until Ctrl-C or SIGTERM, with the limits of [`Config`] as flags and
+//! environment variables (`nhlab --help`).
+//!
+//! Shutdown: on the signal it stops accepting connections, ends every open stream with a
+//! `shutdown` event (stopping its runs), lets JSON requests in flight finish, and exits
+//! after at most `--shutdown-grace` seconds.
 
 use clap::Parser;
 use nhlab_server::{AppState, Config, app};
@@ -8,16 +13,86 @@ use std::time::Duration;
 use tokio::sync::watch;
 use tracing_subscriber::EnvFilter;
 
-/// How long open requests may take to finish after a shutdown signal.
-const GRACE: Duration = Duration::from_secs(10);
-
 /// nhlab: long-time behaviour of nonholonomic integrators, as a web service.
+///
+/// Every option can also be set by the environment variable shown.
 #[derive(Debug, Parser)]
 #[command(version, about)]
 struct Args {
-    /// Address to listen on, HOST:PORT.
+    /// Address to listen on, HOST:PORT (the container sets 0.0.0.0:8080).
     #[arg(long, env = "NHLAB_ADDR", default_value = "127.0.0.1:8080")]
     addr: String,
+    /// Most simulations computing at once (each /simulate request is one, whatever its
+    /// methods; a stream holds its slot until it ends); more get 503 with Retry-After.
+    /// Default: the number of cores.
+    #[arg(long, env = "NHLAB_MAX_SIMULATIONS", default_value_t = defaults().max_simulations,
+          value_parser = slots)]
+    max_simulations: usize,
+    /// Most steps (t_end / step) per run for a JSON answer.
+    #[arg(long, env = "NHLAB_MAX_STEPS_JSON", default_value_t = defaults().max_steps_json)]
+    max_steps_json: u64,
+    /// Most steps (t_end / step) per run for a stream (Accept: text/event-stream).
+    #[arg(long, env = "NHLAB_MAX_STEPS_STREAM", default_value_t = defaults().max_steps_stream)]
+    max_steps_stream: u64,
+    /// Most `points` (buckets) per series.
+    #[arg(long, env = "NHLAB_MAX_POINTS", default_value_t = defaults().max_points)]
+    max_points: u64,
+    /// Most methods per request.
+    #[arg(long, env = "NHLAB_MAX_METHODS", default_value_t = defaults().max_methods)]
+    max_methods: usize,
+    /// Largest request body, in bytes (larger: 413).
+    #[arg(long, env = "NHLAB_MAX_BODY_BYTES", default_value_t = defaults().max_body_bytes)]
+    max_body_bytes: usize,
+    /// Origin allowed to call the API from another site's page (CORS), e.g.
+    /// https://lab.example.org; repeat the flag or separate by commas; `*` for any.
+    /// Default: none (CORS off).
+    #[arg(long, env = "NHLAB_CORS_ORIGIN", value_delimiter = ',', value_parser = origin)]
+    cors_origin: Vec<String>,
+    /// Seconds that JSON requests in flight may take to finish after SIGTERM or Ctrl-C
+    /// (streams end at once with a `shutdown` event); then the server exits anyway.
+    #[arg(long, env = "NHLAB_SHUTDOWN_GRACE", default_value_t = 10.0,
+          value_parser = grace)]
+    shutdown_grace: f64,
+}
+
+fn defaults() -> Config {
+    Config::default()
+}
+
+fn origin(s: &str) -> Result<String, String> {
+    let ok = s == "*"
+        || ((s.starts_with("http://") || s.starts_with("https://"))
+            && axum::http::HeaderValue::from_str(s).is_ok());
+    if ok { Ok(s.to_owned()) } else { Err("an origin is scheme://host[:port], or *".into()) }
+}
+
+fn slots(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if (1..=4096).contains(&n) => Ok(n),
+        _ => Err("a number of simulations between 1 and 4096".into()),
+    }
+}
+
+fn grace(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if (0.0..=3600.0).contains(&x) => Ok(x),
+        _ => Err("seconds between 0 and 3600".into()),
+    }
+}
+
+impl Args {
+    fn config(&self) -> Config {
+        Config {
+            max_simulations: self.max_simulations,
+            max_steps_json: self.max_steps_json,
+            max_steps_stream: self.max_steps_stream,
+            max_points: self.max_points,
+            max_methods: self.max_methods,
+            max_body_bytes: self.max_body_bytes,
+            cors_origins: self.cors_origin.clone(),
+            ..Config::default()
+        }
+    }
 }
 
 #[tokio::main]
@@ -41,16 +116,18 @@ async fn main() -> std::process::ExitCode {
         Ok(addr) => tracing::info!("nhlab listening on http://{addr}"),
         Err(e) => tracing::warn!("listening, address unknown: {e}"),
     }
+    let grace = Duration::from_secs_f64(args.shutdown_grace);
+    let state = AppState::new(args.config());
     let (stop_tx, mut stop_rx) = watch::channel(false);
-    let server = axum::serve(listener, app(AppState::new(Config::default())))
-        .with_graceful_shutdown(async move {
-            shutdown_signal().await;
-            tracing::info!("shutting down: no new connections, finishing open requests");
-            let _ = stop_tx.send(true);
-        });
+    let server = axum::serve(listener, app(state.clone())).with_graceful_shutdown(async move {
+        shutdown_signal().await;
+        tracing::info!("shutting down: no new connections, ending streams, finishing requests");
+        state.shut_down();
+        let _ = stop_tx.send(true);
+    });
     let deadline = async move {
         let _ = stop_rx.wait_for(|&stop| stop).await;
-        tokio::time::sleep(GRACE).await;
+        tokio::time::sleep(grace).await;
     };
     tokio::select! {
         result = server => {
@@ -59,7 +136,12 @@ async fn main() -> std::process::ExitCode {
                 return std::process::ExitCode::FAILURE;
             }
         }
-        () = deadline => tracing::warn!("requests still open after {GRACE:?}; exiting"),
+        () = deadline => {
+            tracing::warn!("requests still open after {grace:?}; exiting");
+            // Returning would drop the runtime, which waits for blocking tasks (runs still
+            // computing) without bound; the grace period is over.
+            std::process::exit(0);
+        }
     }
     std::process::ExitCode::SUCCESS
 }

@@ -2,7 +2,7 @@
 //! integrals) are listed as enums and parameter bounds as minimum/maximum, taken from the
 //! core's registry, so a fuzzer generates meaningful bodies.
 
-use crate::events::{DoneEvent, PointsEvent, ProgressEvent, RunEvent};
+use crate::events::{DoneEvent, PointsEvent, ProgressEvent, RunEvent, ShutdownEvent};
 use crate::{ErrorBody, SceneView, VerdictView};
 use axum::Json;
 use utoipa::OpenApi;
@@ -31,6 +31,7 @@ use utoipa::OpenApi;
         PointsEvent,
         RunEvent,
         DoneEvent,
+        ShutdownEvent,
         ErrorBody
     ))
 )]
@@ -74,6 +75,17 @@ pub(crate) mod schemas {
     pub fn system_id() -> ObjectBuilder {
         strings(SYSTEMS.iter().map(|s| s.info().id).collect())
             .description(Some("System id (see GET /systems)"))
+    }
+
+    /// `preset`: one of the presets of any system (each system has its own; see GET /systems).
+    pub fn preset_id() -> ObjectBuilder {
+        let mut ids: Vec<&'static str> =
+            SYSTEMS.iter().flat_map(|s| s.info().presets.iter().map(|p| p.id)).collect();
+        ids.sort_unstable();
+        ids.dedup();
+        strings(ids).description(Some(
+            "Preset id of the system (see GET /systems); fills params, q, v, step and t_end",
+        ))
     }
 
     /// `params`: numbers by name.

@@ -54,7 +54,15 @@ impl Plan {
                     "integrals must not be empty; leave it out to measure all the system has",
                 ));
             }
-            Some(names) => scene.prepare(Some(names)).map_err(|e| integral_error(e, names))?,
+            Some(names) => {
+                if let Some(i) = (1..names.len()).find(|&i| names[..i].contains(&names[i])) {
+                    return Err(AppError::invalid(
+                        format!("integrals[{i}]"),
+                        format!("{} is listed twice; list each integral once", names[i]),
+                    ));
+                }
+                scene.prepare(Some(names)).map_err(|e| integral_error(e, names))?
+            }
         };
         let scene = SceneView::of(&prepared, &methods, points);
         Ok(Self { prepared: Arc::new(prepared), methods, points, scene })

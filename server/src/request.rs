@@ -17,6 +17,7 @@ pub struct SimulateRequest {
     pub system: String,
     /// Preset id; fills params, q, v, step and t_end (default: the system's first preset).
     #[serde(default)]
+    #[schema(schema_with = schemas::preset_id)]
     pub preset: Option<String>,
     /// Parameter overrides by name, e.g. `{"epsilon": 0.5}`.
     #[serde(default)]
@@ -47,7 +48,7 @@ pub struct SimulateRequest {
     pub integrals: Option<Vec<String>>,
     /// Buckets per series (default 1000).
     #[serde(default)]
-    #[schema(minimum = 1)]
+    #[schema(minimum = 1, maximum = 100_000)]
     pub points: Option<i64>,
 }
 
@@ -55,7 +56,9 @@ impl SimulateRequest {
     /// Reads a request body, naming the offending path on failure.
     pub fn from_json(body: &[u8]) -> Result<Self, AppError> {
         let de = &mut serde_json::Deserializer::from_slice(body);
-        let req: Self = serde_path_to_error::deserialize(de)?;
+        let req: Self = serde_path_to_error::deserialize(&mut *de)?;
+        // Nothing but whitespace may follow the object (`{…} {` is not one JSON document).
+        de.end().map_err(|e| AppError::malformed(&e))?;
         Ok(req)
     }
 }
@@ -117,6 +120,7 @@ pub struct SceneSpec {
     pub system: String,
     /// Preset id (default: the system's first preset).
     #[serde(default)]
+    #[schema(schema_with = schemas::preset_id)]
     pub preset: Option<String>,
     /// Parameter overrides by name.
     #[serde(default)]

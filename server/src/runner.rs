@@ -1,11 +1,13 @@
 //! [`Runner`]: runs one method of a [`Plan`] on the blocking thread pool, never on the
-//! async runtime, counting it in [`AppState::active_runs`] and timing its own compute.
+//! async runtime, counting it in [`AppState::active_runs`], holding the request's [`Slot`]
+//! until it ends, and timing its own compute. A panic in a run is caught and becomes that
+//! run's error (500 for a JSON request, a failed `run` event in a stream).
 //!
 //! Cancellation: a [`Cancel`] flag, checked by the observers every
 //! [`PROGRESS_EVERY`] steps (microseconds apart), set when the client goes away (the
 //! handler's future or the stream is dropped, see [`CancelOnDrop`]).
 
-use crate::{AppState, Plan};
+use crate::{AppState, Plan, Slot};
 use nhlab_core::{Observer, RunConfig, RunOutcome};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
@@ -64,12 +66,19 @@ pub struct Finished<O> {
 #[derive(Debug, Clone)]
 pub struct Runner {
     state: AppState,
+    slot: Option<Slot>,
 }
 
 impl Runner {
     /// A runner counting its runs in `state`.
     pub fn new(state: &AppState) -> Self {
-        Self { state: state.clone() }
+        Self { state: state.clone(), slot: None }
+    }
+
+    /// The same, its runs holding `slot` (from [`AppState::admit`]) until they end.
+    pub fn with_slot(mut self, slot: Slot) -> Self {
+        self.slot = Some(slot);
+        self
     }
 
     /// Runs method `index` of `plan` on the blocking pool, reporting to `observer`.
@@ -80,25 +89,60 @@ impl Runner {
         mut observer: O,
     ) -> JoinHandle<Finished<O>> {
         let guard = self.state.run_guard();
+        let slot = self.slot.clone();
+        #[cfg(debug_assertions)]
+        let inject_panic = self.state.config.panic_on_points == Some(plan.points);
         let prepared = plan.prepared.clone();
         let method = plan.methods[index];
         let cfg = RunConfig { points: plan.points, progress_every: PROGRESS_EVERY };
         tokio::task::spawn_blocking(move || {
-            let _guard = guard;
+            let (_guard, _slot) = (guard, slot);
+            lower_priority();
             let start = Instant::now();
-            let outcome =
-                catch_unwind(AssertUnwindSafe(|| prepared.run(&method, &cfg, &mut observer)))
-                    .map_err(|panic| {
-                        let message = panic
-                            .downcast_ref::<&str>()
-                            .map(|s| s.to_string())
-                            .or_else(|| panic.downcast_ref::<String>().cloned())
-                            .unwrap_or_else(|| "unknown panic".into());
-                        tracing::error!(run = index, %message, "simulation panicked");
-                        message
-                    });
+            let outcome = catch_unwind(AssertUnwindSafe(|| {
+                #[cfg(debug_assertions)]
+                if inject_panic {
+                    panic!("injected fault (Config::panic_on_points, debug builds only)");
+                }
+                prepared.run(&method, &cfg, &mut observer)
+            }))
+            .map_err(|panic| {
+                let message = panic
+                    .downcast_ref::<&str>()
+                    .map(|s| s.to_string())
+                    .or_else(|| panic.downcast_ref::<String>().cloned())
+                    .unwrap_or_else(|| "unknown panic".into());
+                tracing::error!(run = index, %message, "simulation panicked");
+                message
+            });
             let elapsed_ms = (start.elapsed().as_secs_f64() * 1e6).round() / 1e3;
             Finished { index, outcome, elapsed_ms, observer }
         })
+    }
+}
+
+/// Makes the current blocking-pool thread yield to the async runtime's threads (nice 19 on
+/// Linux), once per thread: however many runs compute, the kernel lets a runtime thread that
+/// wakes up (a request to answer, an event to send) run at once, so `/health`, admission and
+/// the streams stay responsive. Other systems keep the default priority.
+pub(crate) fn lower_priority() {
+    #[cfg(target_os = "linux")]
+    {
+        use std::cell::Cell;
+        thread_local!(static LOWERED: Cell<bool> = const { Cell::new(false) });
+        LOWERED.with(|lowered| {
+            if !lowered.get() {
+                lowered.set(true);
+                // SAFETY: plain system calls on the calling thread's own id; no memory is
+                // shared. A failure (not permitted) leaves the priority as it was.
+                #[allow(unsafe_code, reason = "setpriority has no safe wrapper in libc")]
+                let result = unsafe {
+                    libc::setpriority(libc::PRIO_PROCESS, libc::gettid() as libc::id_t, 19)
+                };
+                if result != 0 {
+                    tracing::debug!("could not lower the priority of a simulation thread");
+                }
+            }
+        });
     }
 }

@@ -11,7 +11,7 @@ use crate::plan::Delivery;
 use crate::request::SceneSpec;
 use crate::{
     AppError, AppState, CRITERION, Cancel, MethodRequest, MethodView, Plan, Runner, SceneView,
-    Status, VerdictView, Verdicts, openapi::schemas,
+    Slot, Status, VerdictView, Verdicts, openapi::schemas,
 };
 use axum::Json;
 use axum::body::Bytes;
@@ -150,6 +150,9 @@ pub const PROPERTIES_TEST: &str = "Measured from each scene's start with its ste
         (status = 413, description = "The body is too large", body = crate::ErrorBody),
         (status = 422, description = "A field is wrong (the error names it, e.g. `scenes[1].preset`)", body = crate::ErrorBody),
         (status = 500, description = "Internal error", body = crate::ErrorBody),
+        (status = 503, description = "Every simulation slot is taken, or the server is \
+            shutting down; retry after `Retry-After` seconds", body = crate::ErrorBody,
+            headers(("Retry-After" = u32, description = "Seconds to wait before retrying"))),
     )
 )]
 pub async fn scorecard(
@@ -158,13 +161,16 @@ pub async fn scorecard(
 ) -> Result<Json<ScorecardResponse>, AppError> {
     let body = body.map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
     let de = &mut serde_json::Deserializer::from_slice(&body);
-    let req: ScorecardRequest = serde_path_to_error::deserialize(de)?;
+    let req: ScorecardRequest = serde_path_to_error::deserialize(&mut *de)?;
+    de.end().map_err(|e| AppError::malformed(&e))?;
     let plans = plans(&req, &state)?;
     tracing::Span::current().record(
         "scene",
         format!("scorecard scenes={} methods={}", plans.len(), plans[0].methods.len()).as_str(),
     );
-    Ok(Json(run(&state, plans).await?))
+    // One simulation slot for the whole scorecard, like one /simulate request.
+    let slot = state.admit()?;
+    Ok(Json(run(&state, plans, slot).await?))
 }
 
 /// Every registered method, the paper's five first.
@@ -249,11 +255,15 @@ impl Observer for Judge {
     }
 }
 
-async fn run(state: &AppState, plans: Vec<Plan>) -> Result<ScorecardResponse, AppError> {
+async fn run(
+    state: &AppState,
+    plans: Vec<Plan>,
+    slot: Slot,
+) -> Result<ScorecardResponse, AppError> {
     let cancel = Cancel::default();
     // If the client goes away, this future is dropped and the runs are stopped.
     let _on_drop = cancel.on_drop();
-    let runner = Runner::new(state);
+    let runner = Runner::new(state).with_slot(slot.clone());
     let ids = scene_ids(&plans);
     // Every run and every scene's property measurements start at once.
     let mut runs = Vec::new();
@@ -268,9 +278,10 @@ async fn run(state: &AppState, plans: Vec<Plan>) -> Result<ScorecardResponse, Ap
                 .collect::<Vec<_>>(),
         );
         let (scene, methods) = (plan.prepared.clone(), plan.methods.clone());
-        let (guard, cancel) = (state.run_guard(), cancel.clone());
+        let (guard, cancel, slot) = (state.run_guard(), cancel.clone(), slot.clone());
         measures.push(tokio::task::spawn_blocking(move || {
-            let _guard = guard;
+            let (_guard, _slot) = (guard, slot);
+            crate::runner::lower_priority();
             let measure = |m: &Method| (!cancel.is_cancelled()).then(|| scene.scene.properties(m));
             methods.iter().map(measure).collect::<Vec<_>>()
         }));

@@ -1,10 +1,11 @@
 //! [`simulate`]: the `POST /simulate` handler. It reads and checks the request, then answers
 //! with one JSON document ([`SimulateResponse`]) or, for `Accept: text/event-stream`, with the
-//! event [`stream`](crate::stream()). The methods run in parallel on the blocking pool.
+//! event [`stream`](crate::stream()). The methods run in parallel on the blocking pool, once
+//! the request is admitted ([`AppState::admit`]: a bounded number of simulations at once).
 
 use crate::plan::Delivery;
 use crate::{
-    AppError, AppState, Cancel, Collector, Plan, RunView, Runner, SceneView, SimulateRequest,
+    AppError, AppState, Cancel, Collector, Plan, RunView, Runner, SceneView, SimulateRequest, Slot,
     Status,
 };
 use axum::Json;
@@ -35,7 +36,8 @@ pub struct SimulateResponse {
         (status = 200, description = "The resolved scene and one run per method. With \
             `Accept: text/event-stream`, server-sent events instead: `scene` (SceneView), \
             `progress` (ProgressEvent), `points` (PointsEvent), `run` (RunEvent), `done` \
-            (DoneEvent).",
+            (DoneEvent), or `shutdown` (ShutdownEvent) instead of `done` when the \
+            server shuts down.",
             content(
                 (SimulateResponse = "application/json"),
                 (String = "text/event-stream"),
@@ -44,6 +46,9 @@ pub struct SimulateResponse {
         (status = 413, description = "The body is too large", body = crate::ErrorBody),
         (status = 422, description = "A field is wrong (the error names it)", body = crate::ErrorBody),
         (status = 500, description = "Internal error", body = crate::ErrorBody),
+        (status = 503, description = "Every simulation slot is taken, or the server is \
+            shutting down; retry after `Retry-After` seconds", body = crate::ErrorBody,
+            headers(("Retry-After" = u32, description = "Seconds to wait before retrying"))),
     )
 )]
 pub async fn simulate(
@@ -65,9 +70,10 @@ pub async fn simulate(
         delivery
     );
     tracing::Span::current().record("scene", summary.as_str());
+    let slot = state.admit()?;
     match delivery {
-        Delivery::Stream => Ok(crate::stream(&state, plan)),
-        Delivery::Json => Ok(Json(run(&state, plan).await?).into_response()),
+        Delivery::Stream => Ok(crate::stream(&state, plan, slot)),
+        Delivery::Json => Ok(Json(run(&state, plan, slot).await?).into_response()),
     }
 }
 
@@ -80,11 +86,11 @@ fn wants_stream(headers: &HeaderMap) -> bool {
 }
 
 /// Runs every method of `plan` in parallel and collects the series.
-async fn run(state: &AppState, plan: Plan) -> Result<SimulateResponse, AppError> {
+async fn run(state: &AppState, plan: Plan, slot: Slot) -> Result<SimulateResponse, AppError> {
     let cancel = Cancel::default();
     // If the client goes away, this future is dropped and the runs are stopped.
     let _on_drop = cancel.on_drop();
-    let runner = Runner::new(state);
+    let runner = Runner::new(state).with_slot(slot);
     let handles: Vec<_> = (0..plan.methods.len())
         .map(|i| runner.spawn(&plan, i, Collector::new(&plan.prepared.integrals, cancel.clone())))
         .collect();

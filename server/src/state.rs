@@ -1,27 +1,83 @@
-//! [`AppState`]: what every handler shares: the limits and the count of running
-//! simulations (tests and, later, admission control watch it).
+//! [`AppState`]: what every handler shares: the limits, the simulation slots (admission),
+//! the count of running simulations and the shutdown flag.
 
-use crate::Config;
+use crate::{AppError, Config, Slot};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use tokio::sync::{Semaphore, watch};
 
 /// Shared state of the app; cheap to clone.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct AppState {
     /// The limits.
     pub config: Arc<Config>,
     active: Arc<AtomicUsize>,
+    slots: Arc<Semaphore>,
+    shutdown: Arc<watch::Sender<bool>>,
+}
+
+impl Default for AppState {
+    fn default() -> Self {
+        Self::new(Config::default())
+    }
 }
 
 impl AppState {
     /// State with these limits.
     pub fn new(config: Config) -> Self {
-        Self { config: Arc::new(config), active: Arc::default() }
+        let slots = Arc::new(Semaphore::new(config.max_simulations));
+        Self {
+            config: Arc::new(config),
+            active: Arc::default(),
+            slots,
+            shutdown: Arc::new(watch::Sender::new(false)),
+        }
     }
 
     /// Number of simulation runs computing right now (one per method of a request).
     pub fn active_runs(&self) -> usize {
         self.active.load(Ordering::SeqCst)
+    }
+
+    /// Number of simulations (admitted requests) holding a slot right now.
+    pub fn busy_slots(&self) -> usize {
+        self.config.max_simulations - self.slots.available_permits()
+    }
+
+    /// Admission: a slot for one simulation, or a 503 (with `Retry-After`) when all
+    /// `max_simulations` are taken or the server is shutting down. Never waits: a busy
+    /// server says so at once rather than queueing without bound. Every handler that
+    /// computes calls this after checking its input (a bad request gets its 4xx even when
+    /// the server is busy).
+    pub fn admit(&self) -> Result<Slot, AppError> {
+        if self.is_shutting_down() {
+            return Err(AppError::unavailable("the server is shutting down; retry shortly"));
+        }
+        let permit = self.slots.clone().try_acquire_owned().map_err(|_| {
+            AppError::unavailable(format!(
+                "the server is busy: all {} simulation slots are taken (limit \
+                 max_simulations); retry in a moment",
+                self.config.max_simulations
+            ))
+        })?;
+        Ok(Slot::new(permit))
+    }
+
+    /// Asks every open stream to end (with a `shutdown` event) and admission to refuse.
+    pub fn shut_down(&self) {
+        self.shutdown.send_replace(true);
+    }
+
+    /// Whether [`shut_down`](Self::shut_down) was called.
+    pub fn is_shutting_down(&self) -> bool {
+        *self.shutdown.borrow()
+    }
+
+    /// Resolves once [`shut_down`](Self::shut_down) is called.
+    pub async fn shutdown_requested(&self) {
+        let mut rx = self.shutdown.subscribe();
+        // The sender lives in self, so the channel cannot close under us.
+        let _ = rx.wait_for(|&stop| stop).await;
     }
 
     /// Counts a run as active until the guard is dropped (also when the run panics).

@@ -5,9 +5,13 @@
 //! sends each run's last `points` and its `run` event as it ends, then `done`. When the
 //! client goes away the body is dropped, which sets the request's [`Cancel`] flag: the runs
 //! see it within [`PROGRESS_EVERY`](crate::runner::PROGRESS_EVERY) steps and stop.
+//!
+//! The stream holds its simulation [`Slot`] until its runs have stopped and its last event is
+//! sent. On shutdown ([`AppState::shut_down`]) the runs are stopped, their `run` events sent,
+//! and a `shutdown` event ends the stream instead of `done`.
 
-use crate::events::{DoneEvent, RunEvent, event};
-use crate::{AppState, Cancel, Plan, Reporter, Runner, Status};
+use crate::events::{DoneEvent, RunEvent, ShutdownEvent, event};
+use crate::{AppState, Cancel, Plan, Reporter, Runner, Slot, Status};
 use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use futures_util::StreamExt;
@@ -20,15 +24,16 @@ use tokio_stream::wrappers::ReceiverStream;
 /// Events buffered between the runs and the client.
 const CHANNEL: usize = 64;
 
-/// Starts the runs of `plan` and answers with their event stream.
-pub fn stream(state: &AppState, plan: Plan) -> Response {
+/// Starts the runs of `plan`, admitted with `slot`, and answers with their event stream.
+pub fn stream(state: &AppState, plan: Plan, slot: Slot) -> Response {
     let (tx, rx) = mpsc::channel::<Event>(CHANNEL);
     let cancel = Cancel::default();
     let on_drop = cancel.on_drop();
     // The channel is empty: the scene event always fits.
     let _ = tx.try_send(event("scene", &plan.scene));
     let every = state.config.report_every;
-    tokio::spawn(coordinate(Runner::new(state), plan, every, tx, cancel));
+    let runner = Runner::new(state).with_slot(slot);
+    tokio::spawn(coordinate(runner, state.clone(), plan, every, tx, cancel));
     let body = ReceiverStream::new(rx).map(move |ev| {
         // The body owns the guard: dropping it (the client left) cancels the runs.
         let _alive = &on_drop;
@@ -39,6 +44,7 @@ pub fn stream(state: &AppState, plan: Plan) -> Response {
 
 async fn coordinate(
     runner: Runner,
+    state: AppState,
     plan: Plan,
     every: Duration,
     tx: mpsc::Sender<Event>,
@@ -54,7 +60,20 @@ async fn coordinate(
         })
         .collect();
     let mut failed = 0;
-    while let Some((i, joined)) = runs.next().await {
+    let shutdown = state.shutdown_requested();
+    tokio::pin!(shutdown);
+    let mut shutting_down = false;
+    loop {
+        let next = tokio::select! {
+            next = runs.next() => next,
+            () = &mut shutdown, if !shutting_down => {
+                // The runs see the flag within PROGRESS_EVERY steps and end as cancelled.
+                shutting_down = true;
+                cancel.cancel();
+                continue;
+            }
+        };
+        let Some((i, joined)) = next else { break };
         let (mut events, mut verdicts) = (Vec::new(), Default::default());
         let (status, error, steps, elapsed_ms) = match joined {
             Ok(mut finished) => {
@@ -88,6 +107,14 @@ async fn coordinate(
         }
     }
     let elapsed_ms = (start.elapsed().as_secs_f64() * 1e6).round() / 1e3;
-    let done = DoneEvent { runs: plan.methods.len(), failed, elapsed_ms };
-    let _ = tx.send(event("done", &done)).await;
+    let runs = plan.methods.len();
+    let last = if shutting_down {
+        let error = "the server is shutting down: the runs were stopped".to_owned();
+        event("shutdown", &ShutdownEvent { error, runs, elapsed_ms })
+    } else {
+        event("done", &DoneEvent { runs, failed, elapsed_ms })
+    };
+    let _ = tx.send(last).await;
+    // The runner (and with it the slot) is dropped here, after the last event.
+    drop(runner);
 }

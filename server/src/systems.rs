@@ -112,6 +112,8 @@ pub struct LimitsView {
     pub max_methods: usize,
     /// Largest request body, in bytes.
     pub max_body_bytes: usize,
+    /// Most simulations computing at once (more get 503 with `Retry-After`).
+    pub max_simulations: usize,
 }
 
 fn bound(x: f64) -> Option<f64> {
@@ -185,6 +187,7 @@ impl SystemsResponse {
                 max_points: config.max_points,
                 max_methods: config.max_methods,
                 max_body_bytes: config.max_body_bytes,
+                max_simulations: config.max_simulations,
             },
         }
     }

@@ -5,92 +5,10 @@
 //! `cargo test -p nhlab-server --test binary_alone` checks the test-profile binary;
 //! `cargo test --release -p nhlab-server --test binary_alone` the release binary.
 
+mod common;
+
+use common::Server;
 use serde_json::{Value, json};
-use std::io::{BufRead, BufReader};
-use std::path::Path;
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
-
-/// The binary running in `dir`, with its log lines arriving on `log`.
-struct Server {
-    child: Child,
-    log: mpsc::Receiver<String>,
-    url: String,
-    lines: Vec<String>,
-}
-
-impl Server {
-    fn start(binary: &Path, dir: &Path, configure: impl FnOnce(&mut Command)) -> Self {
-        let mut command = Command::new(binary);
-        command
-            .current_dir(dir)
-            .env_remove("NHLAB_ADDR")
-            .env("RUST_LOG", "info")
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped());
-        configure(&mut command);
-        let mut child = command.spawn().expect("the binary starts");
-        let stderr = child.stderr.take().unwrap();
-        let (tx, log) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stderr).lines().map_while(Result::ok) {
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
-        let mut server = Self { child, log, url: String::new(), lines: Vec::new() };
-        let line = server.wait_for("listening on http://");
-        server.url = line[line.find("http://").unwrap()..].trim().to_owned();
-        server
-    }
-
-    /// Waits (up to 20 s) for a log line containing `text`.
-    fn wait_for(&mut self, text: &str) -> String {
-        let deadline = Instant::now() + Duration::from_secs(20);
-        if let Some(line) = self.lines.iter().find(|l| l.contains(text)) {
-            return line.clone();
-        }
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.log.recv_timeout(left) {
-                Ok(line) => {
-                    self.lines.push(line.clone());
-                    if line.contains(text) {
-                        return line;
-                    }
-                }
-                Err(_) => panic!("no log line with '{text}'; log so far: {:#?}", self.lines),
-            }
-        }
-    }
-
-    fn terminate(mut self) {
-        let status = Command::new("kill")
-            .args(["-TERM", &self.child.id().to_string()])
-            .status()
-            .expect("kill runs");
-        assert!(status.success());
-        let deadline = Instant::now() + Duration::from_secs(15);
-        loop {
-            if let Some(status) = self.child.try_wait().unwrap() {
-                assert!(status.success(), "exit status {status}");
-                return;
-            }
-            assert!(Instant::now() < deadline, "still running 15 s after SIGTERM");
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-}
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
 
 #[tokio::test]
 async fn binary_alone_serves_page_and_api() {
@@ -127,6 +45,7 @@ async fn binary_alone_serves_page_and_api() {
     // One log line per request, with the scene of a simulation.
     let line = server.wait_for("uri=/simulate");
     assert!(line.contains("knife_edge/paper") && line.contains("status=200"), "{line}");
+    assert!(line.contains("latency="), "the time is in the line: {line}");
     server.terminate();
 
     // The address may also come from the environment.
