@@ -22,8 +22,9 @@ struct Args {
     /// Address to listen on, HOST:PORT (the container sets 0.0.0.0:8080).
     #[arg(long, env = "NHLAB_ADDR", default_value = "127.0.0.1:8080")]
     addr: String,
-    /// Most simulations computing at once (each /simulate request is one, whatever its
-    /// methods; a stream holds its slot until it ends); more get 503 with Retry-After.
+    /// Most simulations computing at once (each /simulate or /scorecard request is one,
+    /// whatever its methods; a stream holds its slot until it ends); more get 503 with
+    /// Retry-After.
     /// Default: the number of cores.
     #[arg(long, env = "NHLAB_MAX_SIMULATIONS", default_value_t = defaults().max_simulations,
           value_parser = slots)]
