@@ -199,6 +199,7 @@ async function run() {
   progress(0);
   status('running', 'Starting…');
   let finished = false;
+  let shutdown = null;
   try {
     await simulate(requestBody(state), {
       signal: mine.signal,
@@ -214,6 +215,7 @@ async function run() {
         else if (name === 'points') result?.addPoints(data);
         else if (name === 'run') result?.finishRun(data);
         else if (name === 'done') finished = true;
+        else if (name === 'shutdown') shutdown = data;
         schedule();
       },
     });
@@ -222,6 +224,10 @@ async function run() {
       const failed = result ? result.runs.filter((r) => r.status === 'failed').length : 0;
       const total = result ? result.runs.length : 0;
       status(failed ? 'done-failed' : 'done', failed ? `Done: ${failed} of ${total} runs failed (see below).` : `Done: ${total} runs.`);
+    } else if (shutdown) {
+      result?.interrupt('interrupted');
+      status('error', 'The server shut down during the run.');
+      banner($('run-error'), 'The server is shutting down (it was stopped). The curves show what arrived; run again once it is back.');
     } else {
       result?.interrupt('interrupted');
       status('error', 'The server closed the stream before the end.');
