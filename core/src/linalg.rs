@@ -72,36 +72,27 @@ impl<const N: usize> Lu<N> {
     }
 }
 
-/// `A⁻¹`: closed form for N ≤ 3 (the matrices here are `I + O(h²)` and `h A Aᵀ`-like,
-/// well conditioned, and the closed forms are several times cheaper than the loops of a
-/// pivoted LU), the LU above otherwise. `None` when `A` is singular.
+/// nalgebra's closed-form inverse of the concrete `M×M` type, for a generic `N×N` that is
+/// known to have `N == M`.
+#[inline]
+fn closed_form<const N: usize, const M: usize>(a: &Matrix<N, N>) -> Option<Matrix<N, N>> {
+    let inv = nalgebra::SMatrix::<f64, M, M>::from_fn(|i, j| a[(i, j)]).try_inverse()?;
+    Some(Matrix::<N, N>::from_fn(|i, j| inv[(i, j)]))
+}
+
+/// `A⁻¹`: nalgebra's closed forms for N ≤ 4 (the matrices here are `I + O(h²)` and
+/// `h A Aᵀ`-like, well conditioned, and closed forms are several times cheaper than the loops
+/// of a pivoted LU), the LU above otherwise. `None` when `A` is singular.
 #[inline]
 pub(crate) fn inverse<const N: usize>(a: &Matrix<N, N>) -> Option<Matrix<N, N>> {
-    let mut m = Matrix::<N, N>::zeros();
-    // N is a constant, so all but one arm compile away.
-    match N {
-        1 => m[(0, 0)] = 1.0 / a[(0, 0)],
-        2 => {
-            let inv_det = 1.0 / (a[(0, 0)] * a[(1, 1)] - a[(0, 1)] * a[(1, 0)]);
-            m[(0, 0)] = a[(1, 1)] * inv_det;
-            m[(0, 1)] = -a[(0, 1)] * inv_det;
-            m[(1, 0)] = -a[(1, 0)] * inv_det;
-            m[(1, 1)] = a[(0, 0)] * inv_det;
-        }
-        3 => {
-            let c = |i: usize, j: usize| {
-                let (i1, i2, j1, j2) = ((i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3);
-                a[(i1, j1)] * a[(i2, j2)] - a[(i1, j2)] * a[(i2, j1)]
-            };
-            let inv_det = 1.0 / (a[(0, 0)] * c(0, 0) + a[(0, 1)] * c(0, 1) + a[(0, 2)] * c(0, 2));
-            for i in 0..3 {
-                for j in 0..3 {
-                    m[(j, i)] = c(i, j) * inv_det;
-                }
-            }
-        }
-        _ => return Lu::new(*a).map(|lu| lu.solve(&Matrix::<N, N>::identity())),
-    }
+    // N is a constant, so all but one arm compile away (and the conversions with them).
+    let m = match N {
+        1 => Some(Matrix::<N, N>::from_element(1.0 / a[(0, 0)])),
+        2 => closed_form::<N, 2>(a),
+        3 => closed_form::<N, 3>(a),
+        4 => closed_form::<N, 4>(a),
+        _ => Lu::new(*a).map(|lu| lu.solve(&Matrix::<N, N>::identity())),
+    }?;
     m.iter().all(|v| v.is_finite()).then_some(m)
 }
 
@@ -136,8 +127,12 @@ mod tests {
         let a2 = Matrix::<2, 2>::new(2.0, 1.0, 0.5, 3.0);
         let b2 = Matrix::<2, 1>::new(1.0, -1.0);
         assert!((a2 * solve(&a2, &b2).unwrap() - b2).amax() < 1e-15);
-        let a4 = Matrix::<4, 4>::identity() * 2.0;
-        assert_eq!(solve(&a4, &Matrix::<4, 1>::repeat(1.0)).unwrap(), Matrix::<4, 1>::repeat(0.5));
+        let a4 =
+            Matrix::<4, 4>::from_fn(|i, j| if i == j { 2.0 } else { 0.1 * (i + 2 * j) as f64 });
+        let b4 = Matrix::<4, 1>::new(1.0, -2.0, 0.5, 3.0);
+        assert!((solve(&a4, &b4).unwrap() - Lu::new(a4).unwrap().solve(&b4)).amax() < 1e-14);
+        let a5 = Matrix::<5, 5>::identity() * 2.0;
+        assert_eq!(solve(&a5, &Matrix::<5, 1>::repeat(1.0)).unwrap(), Matrix::<5, 1>::repeat(0.5));
         assert!(solve(&Matrix::<1, 1>::zeros(), &Matrix::<1, 1>::repeat(1.0)).is_none());
     }
 
