@@ -1,6 +1,7 @@
 //! Work–precision table of every method on the two scenes of docs/benchmarks.md: the knife
 //! edge (paper, to t = 100) and the rotating CVT with ε = 0.5 (to t = 3000), steps halved
-//! from the scene's own. Prints CSV: scene,method,step,steps,elapsed_ms,final_error.
+//! from the scene's own. Prints CSV (labels quoted: `DLA^{0,1}` has a comma):
+//! scene,method,step,steps,elapsed_ms,final_error.
 //! `cargo run --release -p nhlab-core --example work_precision > target/wp_nhlab.csv`
 
 use nhlab_core::work_precision::{measure, reference};
@@ -32,7 +33,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let h = h0 / 2f64.powi(k);
                 let row = measure(&scene, &r.state, m, h, 5);
                 println!(
-                    "{system}/{preset},{},{},{},{:.4},{}",
+                    "{system}/{preset},\"{}\",{},{},{:.4},{}",
                     m.label(),
                     row.step,
                     row.steps,
