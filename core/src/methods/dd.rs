@@ -71,40 +71,57 @@ impl Integrator for Dd {
         st: &mut State<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
-        let (q0, v0) = (st.q, st.v);
-        let a0 = sys.constraint(q0[N - 1]);
-        let mut v1 = v0 + h * (a0.transpose() * st.lambda - sys.gradient(&q0));
-        let mut lambda = st.lambda;
-        let v_q0 = sys.potential(&q0);
-        solve(&self.newton, &mut v1, &mut lambda, |v1, lambda| {
-            let s = v0 + v1;
-            let dq = s * (0.5 * h);
-            let z_mid = q0[N - 1] + 0.5 * dq[N - 1];
-            let a_mid = sys.constraint(z_mid);
-            let da_mid = sys.constraint_d(z_mid);
-            let (grad, jac) = discrete_gradient(sys, &q0, v_q0, &dq, h);
-            let mut b = Matrix::<N, N>::identity() + jac * h;
-            // −h A(q̄)ᵀλ depends on q̇₁ through ζ̄ (dζ̄ = (h/4) dζ̇₁).
-            let dforce = da_mid.transpose() * lambda * (-h * 0.25 * h);
-            let mut c = a_mid * 0.5;
-            let dcol = da_mid * s * (0.125 * h);
-            for i in 0..N {
-                b[(i, N - 1)] += dforce[i];
-            }
-            for r in 0..R {
-                c[(r, N - 1)] += dcol[r];
-            }
-            Linearization {
-                f1: v1 - v0 + h * grad - h * (a_mid.transpose() * lambda),
-                f2: a_mid * s * 0.5,
-                b,
-                g: a_mid.transpose() * (-h),
-                c,
-            }
-        })?;
-        st.q = q0 + (v0 + v1) * (0.5 * h);
-        st.v = v1;
-        st.lambda = lambda;
-        Ok(())
+        let v_q0 = sys.potential(&st.q);
+        let q0 = st.q;
+        discrete_derivative_step(sys, st, h, &self.newton, |dq| {
+            discrete_gradient(sys, &q0, v_q0, dq, h)
+        })
     }
+}
+
+/// One step of the discrete-derivative family (MATH.md §3) for a given discrete gradient:
+/// `gradient(Δq)` returns `∇̄V(q₀, q₀ + Δq)` and its derivative with respect to `q̇₁`.
+/// Shared by `dd` (Gonzalez) and `dd_avf` (average vector field).
+#[inline]
+pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R: usize>(
+    sys: &S,
+    st: &mut State<N, R>,
+    h: f64,
+    newton: &NewtonConfig,
+    gradient: impl Fn(&Vector<N>) -> (Vector<N>, Matrix<N, N>),
+) -> Result<(), StepFailure> {
+    let (q0, v0) = (st.q, st.v);
+    let a0 = sys.constraint(q0[N - 1]);
+    let mut v1 = v0 + h * (a0.transpose() * st.lambda - sys.gradient(&q0));
+    let mut lambda = st.lambda;
+    solve(newton, &mut v1, &mut lambda, |v1, lambda| {
+        let s = v0 + v1;
+        let dq = s * (0.5 * h);
+        let z_mid = q0[N - 1] + 0.5 * dq[N - 1];
+        let a_mid = sys.constraint(z_mid);
+        let da_mid = sys.constraint_d(z_mid);
+        let (grad, jac) = gradient(&dq);
+        let mut b = Matrix::<N, N>::identity() + jac * h;
+        // −h A(q̄)ᵀλ depends on q̇₁ through ζ̄ (dζ̄ = (h/4) dζ̇₁).
+        let dforce = da_mid.transpose() * lambda * (-h * 0.25 * h);
+        let mut c = a_mid * 0.5;
+        let dcol = da_mid * s * (0.125 * h);
+        for i in 0..N {
+            b[(i, N - 1)] += dforce[i];
+        }
+        for r in 0..R {
+            c[(r, N - 1)] += dcol[r];
+        }
+        Linearization {
+            f1: v1 - v0 + h * grad - h * (a_mid.transpose() * lambda),
+            f2: a_mid * s * 0.5,
+            b,
+            g: a_mid.transpose() * (-h),
+            c,
+        }
+    })?;
+    st.q = q0 + (v0 + v1) * (0.5 * h);
+    st.v = v1;
+    st.lambda = lambda;
+    Ok(())
 }

@@ -8,8 +8,9 @@
 //! here has U of degree ≤ 2). Unlike Gonzalez's gradient, the driver's update then sees the
 //! driver alone, so the method can preserve the fibration while conserving H.
 
+use super::dd::discrete_derivative_step;
 use crate::method::{Integrator, MethodInfo};
-use crate::newton::{Linearization, NewtonConfig, solve};
+use crate::newton::NewtonConfig;
 use crate::system::System;
 use crate::{InputError, Matrix, State, StepFailure, Vector};
 
@@ -92,40 +93,12 @@ impl Integrator for DdAvf {
         st: &mut State<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
-        let (q0, v0) = (st.q, st.v);
-        let a0 = sys.constraint(q0[N - 1]);
-        let mut v1 = v0 + h * (a0.transpose() * st.lambda - sys.gradient(&q0));
-        let mut lambda = st.lambda;
+        let q0 = st.q;
         let vd0 = sys.driver_potential(q0[N - 1]);
-        solve(&self.newton, &mut v1, &mut lambda, |v1, lambda| {
-            let s = v0 + v1;
-            let dq = s * (0.5 * h);
-            let z_mid = q0[N - 1] + 0.5 * dq[N - 1];
-            let a_mid = sys.constraint(z_mid);
-            let da_mid = sys.constraint_d(z_mid);
-            let (grad, jac) = avf_gradient(sys, &q0, vd0, &dq);
-            // dq₁/dq̇₁ = (h/2) I; −h A(q̄)ᵀλ depends on q̇₁ through ζ̄ (dζ̄ = (h/4) dζ̇₁).
-            let mut b = Matrix::<N, N>::identity() + jac * (0.5 * h * h);
-            let dforce = da_mid.transpose() * lambda * (-h * 0.25 * h);
-            let mut c = a_mid * 0.5;
-            let dcol = da_mid * s * (0.125 * h);
-            for i in 0..N {
-                b[(i, N - 1)] += dforce[i];
-            }
-            for r in 0..R {
-                c[(r, N - 1)] += dcol[r];
-            }
-            Linearization {
-                f1: v1 - v0 + h * grad - h * (a_mid.transpose() * lambda),
-                f2: a_mid * s * 0.5,
-                b,
-                g: a_mid.transpose() * (-h),
-                c,
-            }
-        })?;
-        st.q = q0 + (v0 + v1) * (0.5 * h);
-        st.v = v1;
-        st.lambda = lambda;
-        Ok(())
+        discrete_derivative_step(sys, st, h, &self.newton, |dq| {
+            // dq₁/dq̇₁ = (h/2) I.
+            let (grad, jac) = avf_gradient(sys, &q0, vd0, dq);
+            (grad, jac * (0.5 * h))
+        })
     }
 }
