@@ -52,11 +52,6 @@ impl Bucketer {
         }
     }
 
-    /// The planned number of buckets.
-    pub fn buckets(&self) -> u64 {
-        self.buckets
-    }
-
     /// Adds a sample; returns the bucket it completed, if any (never the last one).
     #[inline]
     pub fn push(&mut self, t: f64, error: f64) -> Option<Bucket> {

@@ -17,6 +17,16 @@ use ode_solvers::dop853::Dop853;
 
 type Y = SVector<f64, 11>;
 
+/// The reduced passenger state `u = (x₁, x₂, v)` with `v = k(ζ)·ẋ` (MATH.md §5).
+#[inline]
+fn reduced_passenger<S: System<N, R>, const N: usize, const R: usize>(
+    sys: &S,
+    q: &Vector<N>,
+    v: &Vector<N>,
+) -> Vector3<f64> {
+    Vector3::new(q[0], q[1], sys.kernel(q[N - 1]).dot(v))
+}
+
 /// The section `ζ = ζ(0) + 2πm` (m = 0 only for a non-periodic driver), crossed in the
 /// direction of `ζ̇(0)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -132,7 +142,7 @@ impl LatitudeAxis {
                 "the driver starts at rest (ζ̇(0) = 0), so it has no section".into(),
             ));
         }
-        let u0 = Vector3::new(q[0], q[1], sys.kernel(zeta0).dot(v));
+        let u0 = reduced_passenger(sys, q, v);
         if u0.norm() == 0.0 {
             return Err(undefined("the passenger starts at rest at the origin (u(0) = 0)".into()));
         }
@@ -223,7 +233,7 @@ impl LatitudeTracker {
             index: axis.section.index(zeta),
             prev_t: 0.0,
             prev_zeta: zeta,
-            prev_u: Vector3::new(q[0], q[1], sys.kernel(zeta).dot(v)),
+            prev_u: reduced_passenger(sys, q, v),
         }
     }
 
@@ -238,7 +248,7 @@ impl LatitudeTracker {
     ) -> Option<(f64, f64)> {
         let zeta = q[N - 1];
         let index = self.axis.section.index(zeta);
-        let u = Vector3::new(q[0], q[1], sys.kernel(zeta).dot(v));
+        let u = reduced_passenger(sys, q, v);
         let mut out = None;
         if index > self.index {
             let target = self.axis.section.zeta(index);

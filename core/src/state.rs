@@ -31,12 +31,4 @@ impl<const N: usize, const R: usize> State<N, R> {
     pub fn is_finite(&self) -> bool {
         (self.q.sum() + self.v.sum() + self.lambda.sum()).is_finite()
     }
-
-    /// The reduced passenger state `u = (x, v)` with `v = k(ζ)·ẋ` (MATH.md §5), for systems
-    /// with two passenger coordinates.
-    #[inline]
-    pub fn reduced_passenger<S: System<N, R>>(&self, sys: &S) -> nalgebra::Vector3<f64> {
-        let k = sys.kernel(self.q[N - 1]);
-        nalgebra::Vector3::new(self.q[0], self.q[1], k.dot(&self.v))
-    }
 }
