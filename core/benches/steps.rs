@@ -2,14 +2,27 @@
 //! `cargo bench -p nhlab-core`; numbers go to docs/benchmarks.md.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use nhlab_core::methods::{Dla, Dla01};
 use nhlab_core::systems::*;
 use nhlab_core::{Method, Observer, RunConfig, Scene, SceneRequest, State, System, Vector};
 use std::hint::black_box;
 
 const STEPS: u64 = 10_000;
 
-fn methods() -> Vec<Method> {
-    Method::paper_five().to_vec()
+/// The paper's five (implicit ones on their coupled fast paths), then the implicit ones on
+/// their general Newton paths, so that one run gives the fast/general ratio (issue 4).
+fn methods() -> Vec<(String, Method)> {
+    let mut out: Vec<(String, Method)> =
+        Method::paper_five().iter().map(|m| (m.label(), *m)).collect();
+    for m in Method::paper_five() {
+        let general = match m {
+            Method::Dla(d) => Method::Dla(Dla { fast_path: false, ..d }),
+            Method::Dla01(d) => Method::Dla01(Dla01 { fast_path: false, ..d }),
+            _ => continue,
+        };
+        out.push((format!("{} general", m.label()), general));
+    }
+    out
 }
 
 fn bench_system<S: System<N, R>, const N: usize, const R: usize>(c: &mut Criterion) {
@@ -30,8 +43,8 @@ fn bench_system<S: System<N, R>, const N: usize, const R: usize>(c: &mut Criteri
     .expect("preset is regular");
     let mut group = c.benchmark_group(format!("step/{}", info.id));
     group.throughput(Throughput::Elements(STEPS));
-    for m in methods() {
-        group.bench_function(BenchmarkId::from_parameter(m.label()), |b| {
+    for (label, m) in methods() {
+        group.bench_function(BenchmarkId::from_parameter(label), |b| {
             b.iter(|| {
                 let mut st = start;
                 for _ in 0..STEPS {

@@ -68,17 +68,58 @@ pub fn solve<const N: usize, const R: usize>(
             return Err(StepFailure::NonFinite);
         }
         let scale = 1.0 + v.amax().max(lambda.amax());
-        // Quadratic convergence: e_{k+1} ≈ C e_k² with C ≈ δ_k/δ_{k−1}², so the error left
-        // after this update is about δ_k³/δ_{k−1}². Trusting it (only once δ_k is small
-        // enough to be in the quadratic regime) saves the iteration that would only verify.
-        let predicted = increment * (increment / previous).powi(2);
-        if increment <= cfg.tol * scale
-            || (increment <= QUADRATIC_REGIME * scale && predicted <= cfg.tol * scale)
-            || (increment <= cfg.stagnation_tol * scale && increment >= 0.5 * previous)
-        {
+        if cfg.converged(increment, previous, scale) {
             return Ok(it);
         }
         previous = increment;
     }
     Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment })
+}
+
+/// Solves the scalar equation `f(x) = 0` from `x`, in place; `f` returns the value and the
+/// derivative. Same stopping rule as [`solve`]. The coupled fast paths use it for the
+/// driver, whose update does not see the passenger.
+#[inline]
+pub fn solve_scalar(
+    cfg: &NewtonConfig,
+    x: &mut f64,
+    mut f: impl FnMut(f64) -> (f64, f64),
+) -> Result<u32, StepFailure> {
+    let mut previous = f64::INFINITY;
+    let mut increment = f64::INFINITY;
+    for it in 1..=cfg.max_iter {
+        let (value, slope) = f(*x);
+        if slope == 0.0 {
+            return Err(StepFailure::Singular);
+        }
+        let dx = -value / slope;
+        *x += dx;
+        increment = dx.abs();
+        if !increment.is_finite() {
+            return Err(StepFailure::NonFinite);
+        }
+        if cfg.converged(increment, previous, 1.0 + x.abs()) {
+            return Ok(it);
+        }
+        previous = increment;
+    }
+    Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment })
+}
+
+impl NewtonConfig {
+    /// Whether an iteration whose (max-norm) increment was `increment`, after one of
+    /// `previous`, has converged for unknowns of size `scale`.
+    #[inline]
+    pub(crate) fn converged(&self, increment: f64, previous: f64, scale: f64) -> bool {
+        // Quadratic convergence: e_{k+1} ≈ C e_k² with C ≈ δ_k/δ_{k−1}², so the error left
+        // after this update is about δ_k³/δ_{k−1}². Trusting it (only once δ_k is small
+        // enough to be in the quadratic regime) saves the iteration that would only verify.
+        // After the first iteration there is no δ_{k−1} (previous = ∞), so no estimate: a
+        // lucky small first increment still leaves an error of order C δ₁².
+        let predicted = increment * (increment / previous).powi(2);
+        let predicted = if previous.is_finite() { predicted } else { f64::INFINITY };
+        increment <= self.tol * scale
+            || (increment <= QUADRATIC_REGIME * scale && predicted <= self.tol * scale)
+            || (increment <= self.stagnation_tol * scale && increment >= 0.5 * previous)
+    }
 }

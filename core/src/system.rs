@@ -108,6 +108,10 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     fn constraint_d(&self, zeta: f64) -> Matrix<R, N>;
     /// Unit vector spanning `ker A_x(ζ)`, signed as in MATH.md §2, zero driver component.
     fn kernel(&self, zeta: f64) -> Vector<N>;
+    /// Whether `U` is quadratic in x (`∇U` affine, `∇²U` constant), as for every test system
+    /// of MATH.md §1. The coupled fast paths of the implicit methods rely on it: with the
+    /// driver solved alone, the passenger update is then one linear solve.
+    const QUADRATIC_PASSENGER: bool = false;
     /// Whether `V_d` is 2π-periodic, so that a rotating driver returns to its section.
     fn driver_is_periodic(&self) -> bool {
         false

@@ -120,8 +120,7 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
             c,
         }
     })?;
-    st.q = q0 + (v0 + v1) * (0.5 * h);
-    st.v = v1;
+    st.advance_to((v0 + v1) * (0.5 * h), v1);
     st.lambda = lambda;
     Ok(())
 }

@@ -2,18 +2,30 @@
 //! taken at the midpoint `q₀ + (h/2) q̇₀`, the constraint is imposed at `q₁`.
 //!
 //! Second order and reversible. Implicit in `(q̇₁, λ)`, solved by Newton with the exact
-//! Jacobian (the nonlinearity is only through `A(ζ₁)`).
+//! Jacobian (the nonlinearity is only through `A(ζ₁)`). The coupled fast path (default)
+//! uses that `A` has no driver column: the driver's update `ζ̇₁ = ζ̇₀ − h V_d'(ζ_½)` is then
+//! explicit, so is `ζ₁`, and λ follows from one R×R solve — the step becomes explicit, with
+//! the same result as Newton's to round-off.
 
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::{Linearization, NewtonConfig, solve};
 use crate::system::System;
-use crate::{InputError, Matrix, State, StepFailure};
+use crate::{InputError, Matrix, State, StepFailure, linalg};
 
 /// DLA^{0,1}.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Dla01 {
-    /// Newton's settings.
+    /// Newton's settings (general path).
     pub newton: NewtonConfig,
+    /// Take the explicit coupled fast path (same steps to round-off); `false` forces the
+    /// general Newton solve, which the fast path is tested against.
+    pub fast_path: bool,
+}
+
+impl Default for Dla01 {
+    fn default() -> Self {
+        Self { newton: NewtonConfig::default(), fast_path: true }
+    }
 }
 
 static INFO: MethodInfo = MethodInfo {
@@ -44,7 +56,20 @@ impl Integrator for Dla01 {
     ) -> Result<(), StepFailure> {
         let q_half = st.q + 0.5 * h * st.v;
         let a_half = sys.constraint(q_half[N - 1]);
-        let w = st.v - h * sys.gradient(&q_half);
+        let g_half = sys.gradient(&q_half);
+        let w = st.v - h * g_half;
+        if self.fast_path {
+            // v₁ = w + h A_½ᵀ λ has the driver speed of w (A has no driver column), so ζ₁ is
+            // known, and A(ζ₁) v₁ = 0 gives (h A₁ A_½ᵀ) λ = −A₁ w.
+            let a1 = sys.constraint(q_half[N - 1] + 0.5 * h * w[N - 1]);
+            let lambda = linalg::solve(&(a1 * a_half.transpose()), &(a1 * w))
+                .ok_or(StepFailure::Singular)?
+                * (-1.0 / h);
+            let dv = h * (a_half.transpose() * lambda - g_half);
+            st.advance(h * st.v + (0.5 * h) * dv, dv);
+            st.lambda = lambda;
+            return Ok(());
+        }
         let g = a_half.transpose() * (-h);
         let mut v1 = w + h * (a_half.transpose() * st.lambda);
         let mut lambda = st.lambda;
@@ -64,8 +89,7 @@ impl Integrator for Dla01 {
                 c,
             }
         })?;
-        st.q = q_half + 0.5 * h * v1;
-        st.v = v1;
+        st.advance_to(0.5 * h * (st.v + v1), v1);
         st.lambda = lambda;
         Ok(())
     }

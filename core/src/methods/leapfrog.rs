@@ -39,16 +39,19 @@ impl Integrator for Leapfrog {
         h: f64,
     ) -> Result<(), StepFailure> {
         let a0 = sys.constraint(st.q[N - 1]);
-        let v_half = st.v + 0.5 * h * (a0.transpose() * st.lambda - sys.gradient(&st.q));
-        let q1 = st.q + h * v_half;
+        let dv_half = 0.5 * h * (a0.transpose() * st.lambda - sys.gradient(&st.q));
+        let v_half = st.v + dv_half;
+        st.advance_q(h * v_half);
+        let q1 = st.q;
         let a1 = sys.constraint(q1[N - 1]);
-        let w = v_half - 0.5 * h * sys.gradient(&q1);
+        let g1 = sys.gradient(&q1);
+        let w = v_half - 0.5 * h * g1;
         // v₁ = w + (h/2) A₁ᵀ λ₁ with A₁ v₁ = 0.
         let lambda1 = linalg::solve(&(a1 * a1.transpose()), &(a1 * w))
             .ok_or(StepFailure::Singular)?
             * (-2.0 / h);
-        st.v = w + 0.5 * h * (a1.transpose() * lambda1);
-        st.q = q1;
+        // q̇₁ = w + (h/2) A₁ᵀλ₁, as an increment.
+        st.advance_v(dv_half + 0.5 * h * (a1.transpose() * lambda1 - g1));
         st.lambda = lambda1;
         Ok(())
     }

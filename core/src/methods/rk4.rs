@@ -47,8 +47,10 @@ impl Integrator for Rk4 {
         let a3 = f(q3, v3)?;
         let (q4, v4) = (q0 + h * v3, v0 + h * a3);
         let a4 = f(q4, v4)?;
-        st.q = q0 + h / 6.0 * (v0 + 2.0 * v2 + 2.0 * v3 + v4);
-        st.v = v0 + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+        st.advance(
+            h / 6.0 * (v0 + 2.0 * v2 + 2.0 * v3 + v4),
+            h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
+        );
         st.lambda = sys.continuous_multiplier(&st.q, &st.v).ok_or(StepFailure::Singular)?;
         Ok(())
     }

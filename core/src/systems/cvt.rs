@@ -35,6 +35,7 @@ static INFO: SystemInfo = SystemInfo {
 };
 
 impl System<3, 1> for Cvt {
+    const QUADRATIC_PASSENGER: bool = true;
     fn info() -> &'static SystemInfo {
         &INFO
     }

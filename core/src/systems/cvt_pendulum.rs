@@ -60,6 +60,7 @@ static INFO: SystemInfo = SystemInfo {
 };
 
 impl System<3, 1> for CvtPendulum {
+    const QUADRATIC_PASSENGER: bool = true;
     fn info() -> &'static SystemInfo {
         &INFO
     }

@@ -57,6 +57,7 @@ static INFO: SystemInfo = SystemInfo {
 };
 
 impl System<3, 1> for KnifeEdge {
+    const QUADRATIC_PASSENGER: bool = true;
     fn info() -> &'static SystemInfo {
         &INFO
     }

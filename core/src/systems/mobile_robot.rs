@@ -29,6 +29,7 @@ static INFO: SystemInfo = SystemInfo {
 };
 
 impl System<4, 2> for MobileRobot {
+    const QUADRATIC_PASSENGER: bool = true;
     fn info() -> &'static SystemInfo {
         &INFO
     }

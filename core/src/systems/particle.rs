@@ -33,6 +33,7 @@ static INFO: SystemInfo = SystemInfo {
 };
 
 impl System<3, 1> for Particle {
+    const QUADRATIC_PASSENGER: bool = true;
     fn info() -> &'static SystemInfo {
         &INFO
     }

@@ -51,6 +51,7 @@ static INFO: SystemInfo = SystemInfo {
 };
 
 impl System<4, 2> for RollingDisk {
+    const QUADRATIC_PASSENGER: bool = true;
     fn info() -> &'static SystemInfo {
         &INFO
     }
