@@ -59,7 +59,7 @@ pub async fn simulate(
     let body = body.map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
     let req = SimulateRequest::from_json(&body)?;
     let delivery = if wants_stream(&headers) { Delivery::Stream } else { Delivery::Json };
-    let plan = Plan::resolve(&req, &state.config, delivery)?;
+    let plan = Plan::resolve(&req, &state, delivery)?;
     let scene = &plan.scene;
     let summary = format!(
         "{}/{} steps={} methods={} {:?}",
