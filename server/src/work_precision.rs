@@ -165,7 +165,10 @@ pub async fn work_precision(
     let de = &mut serde_json::Deserializer::from_slice(&body);
     let req: WorkPrecisionRequest = serde_path_to_error::deserialize(&mut *de)?;
     de.end().map_err(|e| AppError::malformed(&e))?;
-    let job = Job::resolve(&req, &state)?;
+    let job = {
+        let state = state.clone();
+        crate::runner::off_runtime(move || Job::resolve(&req, &state)).await?
+    };
     tracing::Span::current().record(
         "scene",
         format!(
