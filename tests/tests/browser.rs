@@ -19,7 +19,8 @@
 //! 8. `?view=work-precision` with a knife-edge scene draws both log–log plots (error against
 //!    run time, error against h) with a line per method, and each method's fitted order in
 //!    the legend and the table, LF and DLA^{0,1} near 2, DLA^0.4 near 1
-//!    (`work-precision.png`); a run that fails is listed as failed, not drawn.
+//!    (`work-precision.png`); the tab takes the Explore form's scene and methods; a run that
+//!    fails is listed as failed with its message, not drawn (`work-precision-failed.png`).
 //!
 //! Chromium and chromedriver are required, not optional: without them the test fails and
 //! says how to install them. `NHLAB_CHROMIUM` / `NHLAB_CHROMEDRIVER` override their paths.
@@ -470,6 +471,31 @@ async fn work_precision_view(client: &Client, driver: &Driver, base: &str) -> Re
     let url = report["url"].as_str().unwrap_or_default();
     assert!(url.contains("view=work-precision") && url.contains("t_end=20"), "{url}");
     console_clean(driver, client, "work-precision view").await?;
+
+    // The tab takes the Explore form's scene and methods, and writes them into the URL.
+    let link = format!("{base}?system=knife_edge&preset=paper&t_end=10&methods=leapfrog,dd");
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    client
+        .wait()
+        .at_most(Duration::from_secs(20))
+        .for_element(Locator::Css(r#".tabs .tab[data-view="work-precision"]"#))
+        .await
+        .map_err(|e| format!("no work-precision tab: {e}"))?
+        .click()
+        .await
+        .map_err(|e| format!("cannot click the work-precision tab: {e}"))?;
+    let (state, text) = wait_for_view(client, "view-work-precision").await?;
+    assert_eq!(state, "done", "the tab computed the form's scene: {text:?}");
+    let report = js(client, WORK_PRECISION_REPORT).await?;
+    let methods: Vec<&str> = report["orders"]
+        .as_array()
+        .map_or(vec![], |o| o.iter().filter_map(|m| m[0].as_str()).collect());
+    assert_eq!(methods, ["LF", "DD"], "the form's methods: {report}");
+    let url = report["url"].as_str().unwrap_or_default();
+    assert!(
+        url.starts_with("?view=work-precision") && url.contains("t_end=10"),
+        "the view's URL holds the form's scene: {url}"
+    );
 
     // h = 2.5 on the CVT: the leap-frog diverges at the largest step, and says so.
     let link = format!(

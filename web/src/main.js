@@ -128,6 +128,8 @@ function wire() {
   }
   window.addEventListener('popstate', () => {
     const wanted = new URLSearchParams(location.search).get('view');
+    // The work–precision view's URL carries the form's scene: restore it with the view.
+    if (wanted === 'work-precision') form.fill(decodeState(location.search, catalog).state);
     if (Object.hasOwn(views, wanted ?? '')) setView(wanted);
     else {
       form.fill(decodeState(location.search, catalog).state);
