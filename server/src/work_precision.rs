@@ -21,6 +21,7 @@ use axum::extract::State;
 use axum::extract::rejection::BytesRejection;
 use nhlab_core::reference::TOL;
 use nhlab_core::work_precision::{measure_until, reference};
+use nhlab_core::{Scene, SceneRequest};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -57,7 +58,8 @@ pub struct WorkPrecisionRequest {
     /// Initial velocity, consistent with the constraints.
     #[serde(default)]
     pub v: Option<Vec<f64>>,
-    /// The scene's step: the largest of the `levels` (ignored when `steps` is given).
+    /// The scene's step: the largest of the `levels` (when `steps` is given and `step` is
+    /// not, the largest of `steps` stands for it).
     #[serde(default)]
     #[schema(exclusive_minimum = 0.0)]
     pub step: Option<f64>,
@@ -194,7 +196,7 @@ struct Job {
 
 impl Job {
     fn resolve(req: &WorkPrecisionRequest, state: &AppState) -> Result<Self, AppError> {
-        let sim = SimulateRequest {
+        let mut sim = SimulateRequest {
             system: req.system.clone(),
             preset: req.preset.clone(),
             params: req.params.clone(),
@@ -207,6 +209,13 @@ impl Job {
             // One bucket per series: its max is the integral's largest error.
             points: Some(1),
         };
+        if let (Some(steps), None, None) = (&req.steps, req.step, req.levels) {
+            // The scene's own step is not run: the largest step asked for stands in for it,
+            // once the steps are checked against t_end (the preset's step might not even fit
+            // a short t_end, and the error would name the wrong field).
+            let t_end = scene_t_end(&sim)?;
+            sim.step = given_steps(steps, t_end)?.into_iter().reduce(f64::max);
+        }
         let plan = Plan::resolve(&sim, state, Delivery::Json)?;
         let (t_end, h) = (plan.prepared.scene.t_end, plan.prepared.scene.step);
         let (steps, field) = match (&req.steps, req.levels) {
@@ -244,6 +253,21 @@ impl Job {
         }
         Ok(Self { plan, steps, repeats: repeats as u32 })
     }
+}
+
+/// The t_end `sim` resolves to, whatever its step.
+fn scene_t_end(sim: &SimulateRequest) -> Result<f64, AppError> {
+    let scene = Scene::resolve(&SceneRequest {
+        system: sim.system.clone(),
+        preset: sim.preset.clone(),
+        params: sim.params.iter().flatten().map(|(n, v)| (n.clone(), *v)).collect(),
+        q: sim.q.clone(),
+        v: sim.v.clone(),
+        // Any step that fits every t_end: only t_end is wanted here.
+        step: Some(f64::MIN_POSITIVE),
+        t_end: sim.t_end,
+    })?;
+    Ok(scene.t_end)
 }
 
 fn given_steps(steps: &[f64], t_end: f64) -> Result<Vec<f64>, AppError> {

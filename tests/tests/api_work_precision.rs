@@ -106,6 +106,16 @@ async fn levels_halve_the_scenes_step_and_default_to_four() {
     assert_eq!(status, 200, "{wp}");
     assert_eq!(wp["rows"].as_array().unwrap().len(), 5 * 4);
     assert_eq!(wp["scene"]["methods"].as_array().unwrap().len(), 5);
+    // Given steps and no step: the largest stands for the scene's step, even where the
+    // preset's step (π/10) would not fit t_end.
+    let body = json!({"system": "knife_edge", "preset": "paper", "t_end": 0.2,
+                      "steps": [0.05, 0.1], "methods": ["leapfrog"], "repeats": 1});
+    let (status, wp) = post(&server, "/work-precision", &body).await;
+    assert_eq!(status, 200, "{wp}");
+    assert_eq!(wp["scene"]["step"], 0.1);
+    let steps: Vec<u64> =
+        wp["rows"].as_array().unwrap().iter().map(|r| r["steps"].as_u64().unwrap()).collect();
+    assert_eq!(steps, [4, 2], "rows in the order of the steps given");
 }
 
 #[tokio::test]
@@ -136,6 +146,8 @@ async fn bad_fields_are_named() {
         (with(json!({"steps": [0.1, -0.1]})), 422, "steps[1]"),
         (with(json!({"steps": [0.1, 0.2, 11]})), 422, "steps[2]"),
         (with(json!({"steps": [0.1, 0]})), 422, "steps[1]"),
+        // t_end shorter than the preset's step (π/10): the steps are what is checked.
+        (with(json!({"t_end": 0.2, "steps": [0.1, 0.3]})), 422, "steps[1]"),
         (with(json!({"steps": []})), 422, "steps"),
         (with(json!({"steps": vec![0.1; 13]})), 422, "steps"),
         (with(json!({"steps": [0.1, "x"]})), 400, "steps[1]"),
