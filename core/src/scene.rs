@@ -160,6 +160,22 @@ impl Scene {
     /// Checks `integrals` against the system (all it has when `None`) and computes the
     /// latitude's axis when the latitude is among them.
     pub fn prepare(self, integrals: Option<&[String]>) -> Result<PreparedScene, InputError> {
+        self.prepare_with_latitude(integrals, Scene::latitude_axis)
+    }
+
+    /// The latitude's monodromy axis from this scene's start (see [`crate::latitude`]); it
+    /// depends on the system, its parameters, q and v only, not on the step or t_end.
+    pub fn latitude_axis(&self) -> Result<LatitudeAxis, InputError> {
+        (self.system.latitude)(self)
+    }
+
+    /// [`prepare`](Self::prepare), the axis (when the latitude is measured) obtained from
+    /// `axis` rather than computed here: a server keeps axes across requests in a cache.
+    pub fn prepare_with_latitude(
+        self,
+        integrals: Option<&[String]>,
+        axis: impl FnOnce(&Scene) -> Result<LatitudeAxis, InputError>,
+    ) -> Result<PreparedScene, InputError> {
         let info = self.system.info();
         let integrals = match integrals {
             None => info.integrals.to_vec(),
@@ -189,11 +205,8 @@ impl Scene {
                 out
             }
         };
-        let latitude = if integrals.contains(&Integral::Latitude) {
-            Some((self.system.latitude)(&self)?)
-        } else {
-            None
-        };
+        let latitude =
+            if integrals.contains(&Integral::Latitude) { Some(axis(&self)?) } else { None };
         Ok(PreparedScene { scene: self, integrals, latitude })
     }
 }

@@ -63,7 +63,7 @@ impl AppError {
             status: StatusCode::METHOD_NOT_ALLOWED,
             message: format!(
                 "{path} does not take {method}; the API is GET /systems, POST /simulate, \
-                 GET /openapi.json, GET /health"
+                 POST /scorecard, POST /work-precision, GET /openapi.json, GET /health"
             ),
             path: None,
         }
@@ -75,7 +75,8 @@ impl AppError {
             status: StatusCode::NOT_FOUND,
             message: format!(
                 "no such resource: {path}; the API is GET /systems, POST /simulate, \
-                 GET /openapi.json, GET /health, and the page is at /"
+                 POST /scorecard, POST /work-precision, GET /openapi.json, GET /health, and the \
+                 page is at /"
             ),
             path: None,
         }

@@ -1,7 +1,8 @@
 //! [`Health`]: `GET /health`, which answers from the async runtime alone (no simulation
-//! ever runs there), with the simulation slots taken and the runs computing.
+//! ever runs there), with the simulation slots taken, the runs computing and the caches'
+//! counters.
 
-use crate::AppState;
+use crate::{AppState, CachesStats};
 use axum::Json;
 use axum::extract::State;
 use serde::Serialize;
@@ -18,6 +19,8 @@ pub struct Health {
     pub max_simulations: usize,
     /// Simulation runs computing right now (one per method of a simulation).
     pub active_runs: usize,
+    /// Hits, misses and entries of the latitude-axis and reference caches.
+    pub cache: CachesStats,
 }
 
 /// Says the server is up, and how busy.
@@ -29,5 +32,6 @@ pub async fn health(State(state): State<AppState>) -> Json<Health> {
         simulations: state.busy_slots(),
         max_simulations: state.config.max_simulations,
         active_runs: state.active_runs(),
+        cache: state.caches.stats(),
     })
 }

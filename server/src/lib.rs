@@ -2,8 +2,11 @@
 //!
 //! `GET /systems` lists what can be simulated; `POST /simulate` runs methods on a scene and
 //! answers with the error series of the first integrals, as one JSON document or as
-//! server-sent events ([`stream()`]); `GET /openapi.json` describes it all; `GET /health`;
-//! `/` serves the embedded page. [`app`] builds the router, so tests run it in-process.
+//! server-sent events ([`stream()`]); `POST /scorecard` judges methods × scenes;
+//! `POST /work-precision` measures cost against accuracy ([`work_precision()`]);
+//! `GET /openapi.json` describes it all; `GET /health`; `/` serves the embedded page. [`app`]
+//! builds the router, so tests run it in-process. Latitude axes and references are kept
+//! across requests in [`Caches`].
 //!
 //! Simulations never run on the async runtime: each method of a request is one task on the
 //! blocking pool ([`Runner`]), all in parallel, stopped through a [`Cancel`] flag when the
@@ -11,6 +14,7 @@
 //! [`Slot`] ([`AppState::admit`]); one more gets 503. [`Config`] holds the limits.
 #![warn(missing_docs)]
 
+mod cache;
 mod collector;
 mod config;
 mod error;
@@ -32,7 +36,9 @@ mod state;
 mod stream;
 mod systems;
 mod verdict_view;
+pub mod work_precision;
 
+pub use cache::{CacheStats, Caches, CachesStats};
 pub use collector::Collector;
 pub use config::Config;
 pub use error::{AppError, ErrorBody};
@@ -55,6 +61,7 @@ pub use systems::{
     LimitsView, MethodInfoView, ParamView, PresetView, SystemView, SystemsResponse, systems,
 };
 pub use verdict_view::{CRITERION, VerdictView, Verdicts};
+pub use work_precision::{WorkPrecisionRequest, WorkPrecisionResponse, work_precision};
 
 use axum::Router;
 use axum::body::Body;
@@ -87,6 +94,7 @@ pub fn app(state: AppState) -> Router {
         .route("/systems", get(systems))
         .route("/simulate", post(simulate))
         .route("/scorecard", post(scorecard))
+        .route("/work-precision", post(work_precision))
         .route("/openapi.json", get(openapi_json))
         .fallback(page)
         .method_not_allowed_fallback(|method: Method, uri: Uri| async move {

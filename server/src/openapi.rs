@@ -15,11 +15,13 @@ use utoipa::OpenApi;
         description = "Long-time behaviour of nonholonomic integrators (Modin & Verdier): \
             test systems, the integrators of the literature and the error of every first \
             integral over time, each judged exact, bounded or drift; a scorecard of methods × \
-            scenes with the methods' measured reversibility and fibration preservation."
+            scenes with the methods' measured reversibility and fibration preservation; \
+            work–precision: run time against final error for each method and step size."
     ),
     paths(
         crate::simulate::simulate,
         crate::scorecard::scorecard,
+        crate::work_precision::work_precision,
         crate::systems::systems,
         crate::health::health,
         openapi_json

@@ -1,7 +1,7 @@
 //! [`Plan`]: a `/simulate` request resolved and checked against the core and the limits,
 //! ready to run. Every error names the field at fault.
 
-use crate::{AppError, Config, MethodRequest, SceneView, SimulateRequest};
+use crate::{AppError, AppState, Config, MethodRequest, SceneView, SimulateRequest};
 use nhlab_core::{InputError, Method, MethodSpec, PreparedScene, Scene, SceneRequest};
 use std::sync::Arc;
 
@@ -28,12 +28,15 @@ pub struct Plan {
 }
 
 impl Plan {
-    /// Resolves and checks `req`.
+    /// Resolves and checks `req` against `state`'s limits; the latitude axis comes from
+    /// `state`'s cache (computed and kept there on a miss).
     pub fn resolve(
         req: &SimulateRequest,
-        config: &Config,
+        state: &AppState,
         delivery: Delivery,
     ) -> Result<Self, AppError> {
+        let config = &state.config;
+        let axis = |scene: &Scene| state.caches.latitude(scene);
         let scene = Scene::resolve(&SceneRequest {
             system: req.system.clone(),
             preset: req.preset.clone(),
@@ -47,7 +50,7 @@ impl Plan {
         let methods = methods(req.methods.as_deref(), config)?;
         let points = points(req.points, config)?;
         let prepared = match &req.integrals {
-            None => scene.prepare(None)?,
+            None => scene.prepare_with_latitude(None, axis)?,
             Some(names) if names.is_empty() => {
                 return Err(AppError::invalid(
                     "integrals",
@@ -61,7 +64,9 @@ impl Plan {
                         format!("{} is listed twice; list each integral once", names[i]),
                     ));
                 }
-                scene.prepare(Some(names)).map_err(|e| integral_error(e, names))?
+                scene
+                    .prepare_with_latitude(Some(names), axis)
+                    .map_err(|e| integral_error(e, names))?
             }
         };
         let scene = SceneView::of(&prepared, &methods, points);

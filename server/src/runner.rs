@@ -3,6 +3,8 @@
 //! until it ends, and timing its own compute. A panic in a run is caught and becomes that
 //! run's error (500 for a JSON request, a failed `run` event in a stream).
 //!
+//! Checking a request runs there too ([`off_runtime`]), before admission.
+//!
 //! Cancellation: a [`Cancel`] flag, checked by the observers every
 //! [`PROGRESS_EVERY`] steps (microseconds apart), set when the client goes away (the
 //! handler's future or the stream is dropped, see [`CancelOnDrop`]).
@@ -119,6 +121,20 @@ impl Runner {
             Finished { index, outcome, elapsed_ms, observer }
         })
     }
+}
+
+/// Runs `check` (resolving a request, which may compute latitude axes: Dop853 solves that
+/// can take a while for an odd scene) on the blocking pool at low priority, so that checking
+/// input never holds up the async runtime either. A panic in it is a 500.
+pub(crate) async fn off_runtime<T: Send + 'static>(
+    check: impl FnOnce() -> Result<T, crate::AppError> + Send + 'static,
+) -> Result<T, crate::AppError> {
+    tokio::task::spawn_blocking(move || {
+        lower_priority();
+        check()
+    })
+    .await
+    .map_err(|e| crate::AppError::internal(format!("internal error: checking the request: {e}")))?
 }
 
 /// Makes the current blocking-pool thread yield to the async runtime's threads (nice 19 on

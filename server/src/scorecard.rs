@@ -163,7 +163,10 @@ pub async fn scorecard(
     let de = &mut serde_json::Deserializer::from_slice(&body);
     let req: ScorecardRequest = serde_path_to_error::deserialize(&mut *de)?;
     de.end().map_err(|e| AppError::malformed(&e))?;
-    let plans = plans(&req, &state)?;
+    let plans = {
+        let state = state.clone();
+        crate::runner::off_runtime(move || plans(&req, &state)).await?
+    };
     tracing::Span::current().record(
         "scene",
         format!("scorecard scenes={} methods={}", plans.len(), plans[0].methods.len()).as_str(),
@@ -220,7 +223,7 @@ fn plans(req: &ScorecardRequest, state: &AppState) -> Result<Vec<Plan>, AppError
         .enumerate()
         .map(|(i, scene)| {
             let sim = scene.into_simulate(methods.clone(), req.points);
-            Plan::resolve(&sim, &state.config, Delivery::Json).map_err(|mut e| {
+            Plan::resolve(&sim, state, Delivery::Json).map_err(|mut e| {
                 // Methods and points are the scorecard's own fields; the rest is the scene's.
                 if let Some(path) = &e.path
                     && !path.starts_with("methods")

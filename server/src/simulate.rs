@@ -59,7 +59,10 @@ pub async fn simulate(
     let body = body.map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
     let req = SimulateRequest::from_json(&body)?;
     let delivery = if wants_stream(&headers) { Delivery::Stream } else { Delivery::Json };
-    let plan = Plan::resolve(&req, &state.config, delivery)?;
+    let plan = {
+        let state = state.clone();
+        crate::runner::off_runtime(move || Plan::resolve(&req, &state, delivery)).await?
+    };
     let scene = &plan.scene;
     let summary = format!(
         "{}/{} steps={} methods={} {:?}",

@@ -1,7 +1,8 @@
 //! [`AppState`]: what every handler shares: the limits, the simulation slots (admission),
-//! the count of running simulations and the shutdown flag.
+//! the count of running simulations, the shutdown flag and the [`Caches`] of latitude axes
+//! and references.
 
-use crate::{AppError, Config, Slot};
+use crate::{AppError, Caches, Config, Slot};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use tokio::sync::{Semaphore, watch};
@@ -11,6 +12,8 @@ use tokio::sync::{Semaphore, watch};
 pub struct AppState {
     /// The limits.
     pub config: Arc<Config>,
+    /// Latitude axes and references kept across requests.
+    pub caches: Arc<Caches>,
     active: Arc<AtomicUsize>,
     slots: Arc<Semaphore>,
     shutdown: Arc<watch::Sender<bool>>,
@@ -28,6 +31,7 @@ impl AppState {
         let slots = Arc::new(Semaphore::new(config.max_simulations));
         Self {
             config: Arc::new(config),
+            caches: Arc::default(),
             active: Arc::default(),
             slots,
             shutdown: Arc::new(watch::Sender::new(false)),

@@ -15,7 +15,12 @@
 //! 6. `?view=paper` draws every panel of the paper's four figures (five curves with data
 //!    each) with a verdict per method under it (`paper.png`, `paper-cvt.png`);
 //! 7. `?view=scorecard` shows a verdict cell for every method × paper scene × integral and
-//!    the property marks (`scorecard.png`); clicking a cell runs that scene in the main view.
+//!    the property marks (`scorecard.png`); clicking a cell runs that scene in the main view;
+//! 8. `?view=work-precision` with a knife-edge scene draws both log–log plots (error against
+//!    run time, error against h) with a line per method, and each method's fitted order in
+//!    the legend and the table, LF and DLA^{0,1} near 2, DLA^0.4 near 1
+//!    (`work-precision.png`); the tab takes the Explore form's scene and methods; a run that
+//!    fails is listed as failed with its message, not drawn (`work-precision-failed.png`).
 //!
 //! Chromium and chromedriver are required, not optional: without them the test fails and
 //! says how to install them. `NHLAB_CHROMIUM` / `NHLAB_CHROMEDRIVER` override their paths.
@@ -56,7 +61,8 @@ async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), S
     form_in_the_url(client, driver, base).await?;
     bad_parameter_link(client, base).await?;
     paper_view(client, driver, base).await?;
-    scorecard_view(client, driver, base).await
+    scorecard_view(client, driver, base).await?;
+    work_precision_view(client, driver, base).await
 }
 
 /// One click on the paper's knife-edge experiment.
@@ -419,6 +425,122 @@ return {
     cells: [...tr.querySelectorAll('td.verdict-cell')].map((c) => ({ scene: c.dataset.scene, integral: c.dataset.integral, kind: c.dataset.kind })),
     marks: Object.fromEntries([...tr.querySelectorAll('td.prop')].map((c) => [`${c.dataset.system}.${c.dataset.property}`, c.dataset.mark])),
   })),
+};
+"#;
+
+/// The Work–precision view on the knife edge: two log–log plots, orders in legend and table.
+async fn work_precision_view(client: &Client, driver: &Driver, base: &str) -> Result<(), String> {
+    driver.browser_log(client).await?;
+    let link = format!(
+        "{base}?view=work-precision&system=knife_edge&preset=paper&t_end=20\
+         &methods=leapfrog,dla01,dla:0.4&levels=4&repeats=2"
+    );
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    let (state, text) = wait_for_view(client, "view-work-precision").await?;
+    let shot = screenshot(client, "work-precision.png").await;
+    assert_eq!(state, "done", "the work-precision view finished with {text:?} ({shot})");
+    let report = js(client, WORK_PRECISION_REPORT).await?;
+    assert_eq!(report["plots"], json!(["time", "step"]), "two plots: {report}");
+    for (plot, series) in report["series"].as_array().ok_or("no series")?.iter().enumerate() {
+        let series = series.as_array().ok_or_else(|| format!("plot {plot} has no chart"))?;
+        assert_eq!(series.len(), 3, "a line per method: {report}");
+        for s in series {
+            assert_eq!(s["drawn"], json!(true), "a line is not drawn: {report}");
+            assert_eq!(s["points"], json!(4), "four step sizes per line: {report}");
+        }
+    }
+    let legend = report["legend"][1].as_array().ok_or("no legend on the h plot")?;
+    assert_eq!(legend.len(), 3, "a legend entry per method: {report}");
+    assert!(
+        legend.iter().all(|l| l.as_str().unwrap_or("").contains("order ")),
+        "the h plot's legend gives each order: {report}"
+    );
+    let orders = report["orders"].as_array().ok_or("no orders table")?;
+    let order = |label: &str| {
+        orders
+            .iter()
+            .find(|o| o[0] == label)
+            .and_then(|o| o[1].as_str()?.parse::<f64>().ok())
+            .ok_or_else(|| format!("no order for {label}: {report}"))
+    };
+    for (label, expected) in [("LF", 2.0), ("DLA^{0,1}", 2.0), ("DLA^0.4", 1.0)] {
+        let measured = order(label)?;
+        assert!((measured - expected).abs() < 0.3, "{label}: order {measured} ({report})");
+    }
+    assert_eq!(report["failed"], json!(0), "{report}");
+    let url = report["url"].as_str().unwrap_or_default();
+    assert!(url.contains("view=work-precision") && url.contains("t_end=20"), "{url}");
+    console_clean(driver, client, "work-precision view").await?;
+
+    // The tab takes the Explore form's scene and methods, and writes them into the URL.
+    let link = format!("{base}?system=knife_edge&preset=paper&t_end=10&methods=leapfrog,dd");
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    client
+        .wait()
+        .at_most(Duration::from_secs(20))
+        .for_element(Locator::Css(r#".tabs .tab[data-view="work-precision"]"#))
+        .await
+        .map_err(|e| format!("no work-precision tab: {e}"))?
+        .click()
+        .await
+        .map_err(|e| format!("cannot click the work-precision tab: {e}"))?;
+    let (state, text) = wait_for_view(client, "view-work-precision").await?;
+    assert_eq!(state, "done", "the tab computed the form's scene: {text:?}");
+    let report = js(client, WORK_PRECISION_REPORT).await?;
+    let methods: Vec<&str> = report["orders"]
+        .as_array()
+        .map_or(vec![], |o| o.iter().filter_map(|m| m[0].as_str()).collect());
+    assert_eq!(methods, ["LF", "DD"], "the form's methods: {report}");
+    let url = report["url"].as_str().unwrap_or_default();
+    assert!(
+        url.starts_with("?view=work-precision") && url.contains("t_end=10"),
+        "the view's URL holds the form's scene: {url}"
+    );
+
+    // h = 2.5 on the CVT: the leap-frog diverges at the largest step, and says so.
+    let link = format!(
+        "{base}?view=work-precision&system=cvt&t_end=1000&step=2.5&methods=leapfrog&levels=2&repeats=1"
+    );
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    let (state, text) = wait_for_view(client, "view-work-precision").await?;
+    let failed_shot = screenshot(client, "work-precision-failed.png").await;
+    assert_eq!(state, "done-failed", "a failed run is reported: {text:?} ({failed_shot})");
+    let report = js(client, WORK_PRECISION_REPORT).await?;
+    assert_eq!(report["failed"], json!(1), "{report}");
+    assert!(
+        report["legend"][0][0].as_str().unwrap_or("").contains("1 failed"),
+        "the legend says a run failed: {report}"
+    );
+    assert!(
+        report["failures"][0].as_str().unwrap_or("").contains("diverged"),
+        "the failure is listed with the server's message: {report}"
+    );
+    let points = report["series"][1][0]["points"].as_u64().unwrap_or(9);
+    assert!(points < 2, "the failed run is not a point: {report}");
+    println!("work-precision view: two log-log plots, orders {orders:?}; screenshot {shot}");
+    Ok(())
+}
+
+/// The work-precision view: its plots, their series and legends, the orders table.
+const WORK_PRECISION_REPORT: &str = r#"
+const root = document.getElementById('view-work-precision');
+const cards = [...root.querySelectorAll('.wp-card')];
+return {
+  plots: cards.map((c) => c.dataset.plot),
+  series: cards.map((c) => {
+    const u = c.uplot;
+    return u ? u.series.slice(1).map((s, i) => ({
+      label: s.label,
+      drawn: !!(s._paths && s._paths.stroke),
+      points: (u.data[i + 1] ?? []).filter((v) => v !== null && v !== undefined).length,
+    })) : null;
+  }),
+  // A static legend (live: false) has no row for the x series.
+  legend: cards.map((c) => [...c.querySelectorAll('.u-legend .u-series .u-label')].map((e) => e.textContent)),
+  orders: [...root.querySelectorAll('tr.wp-method')].map((tr) => [tr.dataset.method, tr.querySelector('.slope')?.dataset.order ?? '']),
+  failed: root.querySelectorAll('td.failed').length,
+  failures: [...root.querySelectorAll('.wp-failures li')].map((li) => li.textContent),
+  url: location.search,
 };
 "#;
 

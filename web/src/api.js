@@ -1,5 +1,6 @@
 // Talking to the server: the catalog (`GET /systems`) and the streamed simulation
-// (`POST /simulate` with `Accept: text/event-stream`). Browsers' EventSource only does GET,
+// (`POST /simulate` with `Accept: text/event-stream`), the scorecard and work–precision
+// (JSON). Browsers' EventSource only does GET,
 // so the stream is read with fetch and parsed by eventsource-parser; cancelling is aborting
 // the fetch, which closes the connection and stops the computation on the server.
 
@@ -63,6 +64,18 @@ export async function simulate(body, { signal, onEvent }) {
 /** `POST /scorecard` (JSON). Rejects with an ApiError for a 4xx/5xx answer. */
 export async function fetchScorecard(body, { signal } = {}) {
   const response = await fetch('scorecard', {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json', Accept: 'application/json' },
+    body: JSON.stringify(body),
+    signal,
+  });
+  if (!response.ok) throw await errorFrom(response);
+  return response.json();
+}
+
+/** `POST /work-precision` (JSON). Rejects with an ApiError for a 4xx/5xx answer. */
+export async function fetchWorkPrecision(body, { signal } = {}) {
+  const response = await fetch('work-precision', {
     method: 'POST',
     headers: { 'Content-Type': 'application/json', Accept: 'application/json' },
     body: JSON.stringify(body),

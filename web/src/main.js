@@ -1,8 +1,9 @@
 // The page's wiring: load the catalog, restore the state from the URL, run a simulation on
 // submit (or when the URL says run=1), feed the stream into a Result and redraw the plots,
-// progress and runs table once per animation frame. Cancel aborts the fetch. Two more views,
-// Scorecard and Paper, live in the URL as `?view=scorecard` / `?view=paper`; clicking a
-// scorecard cell opens its scene here.
+// progress and runs table once per animation frame. Cancel aborts the fetch. Three more views,
+// Scorecard, Paper and Work–precision, live in the URL as `?view=scorecard` / `?view=paper` /
+// `?view=work-precision` (with the form's scene); clicking a scorecard cell opens its scene
+// here.
 
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
@@ -10,6 +11,7 @@ import { ApiError, fetchCatalog, simulate } from './api.js';
 import { Form } from './form.js';
 import { PaperView } from './paper.js';
 import { ScorecardView } from './scorecard.js';
+import { WorkPrecisionView } from './workprecision.js';
 import { Plots } from './plots.js';
 import { Result } from './result.js';
 import { renderRuns } from './runs.js';
@@ -43,6 +45,7 @@ async function start() {
   wire();
   views.scorecard = new ScorecardView($('view-scorecard'), { catalog, onOpen: openScene });
   views.paper = new PaperView($('view-paper'));
+  views['work-precision'] = new WorkPrecisionView($('view-work-precision'), { read: () => form.read(), catalog });
   const wanted = new URLSearchParams(location.search).get('view');
   if (Object.hasOwn(views, wanted ?? '')) {
     setView(wanted);
@@ -69,6 +72,7 @@ function setView(name, push = false) {
       history.pushState(null, '', `?${encodeState({ ...state, run: false }, catalog)}`);
     } else history.pushState(null, '', `?view=${view}`);
   }
+  // The work–precision view writes its own URL (the form's scene with it) in show().
   views[view]?.show();
 }
 
@@ -124,6 +128,8 @@ function wire() {
   }
   window.addEventListener('popstate', () => {
     const wanted = new URLSearchParams(location.search).get('view');
+    // The work–precision view's URL carries the form's scene: restore it with the view.
+    if (wanted === 'work-precision') form.fill(decodeState(location.search, catalog).state);
     if (Object.hasOwn(views, wanted ?? '')) setView(wanted);
     else {
       form.fill(decodeState(location.search, catalog).state);

@@ -1,0 +1,378 @@
+//! [`work_precision`]: the `POST /work-precision` handler. A scene as `/simulate` takes it,
+//! methods, and step sizes (`steps`, or `levels` halvings of the scene's step) → for every
+//! method × step what a run costs (its wall time, the minimum over `repeats`) and what it
+//! buys: the final error in (q, q̇) against a Dop853 reference at t_end, and the largest
+//! error of each integral (`nhlab_core::work_precision`).
+//!
+//! Like `/simulate`: input checked field by field before admission, one simulation slot,
+//! the computation on the blocking pool, stopped when the client goes away. The reference
+//! is kept across requests in [`Caches`](crate::Caches) (`reference.cached` says whether
+//! this request reused one). Its solve cannot be interrupted, but Dop853 stops by itself
+//! after 10⁵ steps, so its cost is bounded whatever t_end is.
+
+use crate::plan::Delivery;
+use crate::{
+    AppError, AppState, Cancel, MethodRequest, MethodView, Plan, SceneView, SimulateRequest, Slot,
+    Status, openapi::schemas,
+};
+use axum::Json;
+use axum::body::Bytes;
+use axum::extract::State;
+use axum::extract::rejection::BytesRejection;
+use nhlab_core::reference::TOL;
+use nhlab_core::work_precision::{measure_until, reference};
+use nhlab_core::{Scene, SceneRequest};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use utoipa::ToSchema;
+
+/// Most step sizes per request (`levels`, or entries of `steps`).
+pub const MAX_LEVELS: usize = 12;
+/// Most timing repetitions per run.
+pub const MAX_REPEATS: i64 = 10;
+/// Halvings when neither `steps` nor `levels` is given.
+pub const DEFAULT_LEVELS: i64 = 4;
+/// Repetitions when `repeats` is not given.
+pub const DEFAULT_REPEATS: i64 = 3;
+
+/// The body of `POST /work-precision`: a `/simulate` scene and methods (without `points`),
+/// and the step sizes to measure.
+#[derive(Debug, Clone, Default, PartialEq, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct WorkPrecisionRequest {
+    /// System id (see `GET /systems`).
+    #[schema(schema_with = schemas::system_id)]
+    pub system: String,
+    /// Preset id (default: the system's first preset).
+    #[serde(default)]
+    #[schema(schema_with = schemas::preset_id)]
+    pub preset: Option<String>,
+    /// Parameter overrides by name.
+    #[serde(default)]
+    #[schema(schema_with = schemas::params)]
+    pub params: Option<BTreeMap<String, f64>>,
+    /// Initial configuration.
+    #[serde(default)]
+    pub q: Option<Vec<f64>>,
+    /// Initial velocity, consistent with the constraints.
+    #[serde(default)]
+    pub v: Option<Vec<f64>>,
+    /// The scene's step: the largest of the `levels` (when `steps` is given and `step` is
+    /// not, the largest of `steps` stands for it).
+    #[serde(default)]
+    #[schema(exclusive_minimum = 0.0)]
+    pub step: Option<f64>,
+    /// Final time: where the final error is measured.
+    #[serde(default)]
+    #[schema(exclusive_minimum = 0.0)]
+    pub t_end: Option<f64>,
+    /// Methods, as in `/simulate` (default: the paper's five).
+    #[serde(default)]
+    #[schema(schema_with = schemas::methods)]
+    pub methods: Option<Vec<MethodRequest>>,
+    /// Integrals whose largest error is reported (default: all the system has).
+    #[serde(default)]
+    #[schema(schema_with = schemas::integrals)]
+    pub integrals: Option<Vec<String>>,
+    /// Step sizes, each in (0, t_end]; each is rounded to t_end / n so the run ends at
+    /// t_end. Not together with `levels`.
+    #[serde(default)]
+    #[schema(min_items = 1, max_items = 12)]
+    pub steps: Option<Vec<f64>>,
+    /// Step sizes h, h/2, …, h/2^(levels−1) from the scene's step (default 4 when `steps`
+    /// is not given).
+    #[serde(default)]
+    #[schema(minimum = 1, maximum = 12)]
+    pub levels: Option<i64>,
+    /// Timing repetitions per run; the fastest counts (default 3).
+    #[serde(default)]
+    #[schema(minimum = 1, maximum = 10)]
+    pub repeats: Option<i64>,
+}
+
+/// The answer of `POST /work-precision`.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct WorkPrecisionResponse {
+    /// The resolved scene (its `step` is the scene's own; each row has its step).
+    pub scene: SceneView,
+    /// The reference the final errors are measured against.
+    pub reference: ReferenceView,
+    /// One row per method × step, method by method, steps in the order given.
+    pub rows: Vec<WorkPrecisionRow>,
+}
+
+/// The Dop853 reference solution at t_end (relative and absolute tolerance 1e-13).
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct ReferenceView {
+    /// Its compute time, in milliseconds (when it was computed, for a cached one).
+    pub elapsed_ms: f64,
+    /// Right-hand-side evaluations.
+    pub evaluations: u32,
+    /// Accepted steps.
+    pub steps: u32,
+    /// `|A(q) q̇|` at t_end: how far the reference drifted off the constraint.
+    pub constraint_residual: f64,
+    /// Whether it came from the server's cache (an earlier request for the same scene).
+    pub cached: bool,
+}
+
+/// One method at one step.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct WorkPrecisionRow {
+    /// The method.
+    pub method: MethodView,
+    /// The step used: the one asked for, rounded to t_end / steps.
+    pub step: f64,
+    /// Steps completed.
+    pub steps: u64,
+    /// The fastest repetition's wall time, in milliseconds.
+    pub elapsed_ms: f64,
+    /// `‖(q, q̇)(t_end) − reference‖∞`; null when the run failed.
+    pub final_error: Option<f64>,
+    /// Largest `|I − I(0)|` of each integral asked for; null when the run failed (or the
+    /// latitude had no section crossing).
+    pub max_error: BTreeMap<String, Option<f64>>,
+    /// `ok` or `failed`.
+    pub status: Status,
+    /// Why it failed, or null.
+    pub error: Option<String>,
+}
+
+/// Measures the final error and run time of methods at several step sizes.
+#[utoipa::path(
+    post,
+    path = "/work-precision",
+    tag = "nhlab",
+    request_body = WorkPrecisionRequest,
+    responses(
+        (status = 200, description = "The resolved scene, the reference and one row per \
+            method × step: wall time (fastest of `repeats`), final error against the \
+            reference at t_end and the largest error of each integral.",
+            body = WorkPrecisionResponse),
+        (status = 400, description = "The body is not valid JSON of the right shape", body = crate::ErrorBody),
+        (status = 413, description = "The body is too large", body = crate::ErrorBody),
+        (status = 422, description = "A field is wrong (the error names it, e.g. `steps[2]`)", body = crate::ErrorBody),
+        (status = 500, description = "Internal error", body = crate::ErrorBody),
+        (status = 503, description = "Every simulation slot is taken, or the server is \
+            shutting down; retry after `Retry-After` seconds", body = crate::ErrorBody,
+            headers(("Retry-After" = u32, description = "Seconds to wait before retrying"))),
+    )
+)]
+pub async fn work_precision(
+    State(state): State<AppState>,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Json<WorkPrecisionResponse>, AppError> {
+    let body = body.map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
+    let de = &mut serde_json::Deserializer::from_slice(&body);
+    let req: WorkPrecisionRequest = serde_path_to_error::deserialize(&mut *de)?;
+    de.end().map_err(|e| AppError::malformed(&e))?;
+    let job = {
+        let state = state.clone();
+        crate::runner::off_runtime(move || Job::resolve(&req, &state)).await?
+    };
+    tracing::Span::current().record(
+        "scene",
+        format!(
+            "work-precision {}/{} steps={:?} methods={} repeats={}",
+            job.plan.scene.system,
+            job.plan.scene.preset,
+            job.steps,
+            job.plan.methods.len(),
+            job.repeats
+        )
+        .as_str(),
+    );
+    let slot = state.admit()?;
+    Ok(Json(run(&state, job, slot).await?))
+}
+
+/// A checked request.
+struct Job {
+    plan: Plan,
+    steps: Vec<f64>,
+    repeats: u32,
+}
+
+impl Job {
+    fn resolve(req: &WorkPrecisionRequest, state: &AppState) -> Result<Self, AppError> {
+        let mut sim = SimulateRequest {
+            system: req.system.clone(),
+            preset: req.preset.clone(),
+            params: req.params.clone(),
+            q: req.q.clone(),
+            v: req.v.clone(),
+            step: req.step,
+            t_end: req.t_end,
+            methods: req.methods.clone(),
+            integrals: req.integrals.clone(),
+            // One bucket per series: its max is the integral's largest error.
+            points: Some(1),
+        };
+        if let (Some(steps), None, None) = (&req.steps, req.step, req.levels) {
+            // The scene's own step is not run: the largest step asked for stands in for it,
+            // once the steps are checked against t_end (the preset's step might not even fit
+            // a short t_end, and the error would name the wrong field).
+            let t_end = scene_t_end(&sim)?;
+            sim.step = given_steps(steps, t_end)?.into_iter().reduce(f64::max);
+        }
+        let plan = Plan::resolve(&sim, state, Delivery::Json)?;
+        let (t_end, h) = (plan.prepared.scene.t_end, plan.prepared.scene.step);
+        let (steps, field) = match (&req.steps, req.levels) {
+            (Some(_), Some(_)) => {
+                return Err(AppError::invalid(
+                    "levels",
+                    "give either steps (a list of step sizes) or levels (halvings of the \
+                     scene's step), not both",
+                ));
+            }
+            (Some(steps), None) => (given_steps(steps, t_end)?, "steps"),
+            (None, levels) => (halvings(h, levels.unwrap_or(DEFAULT_LEVELS))?, "levels"),
+        };
+        let repeats = req.repeats.unwrap_or(DEFAULT_REPEATS);
+        if !(1..=MAX_REPEATS).contains(&repeats) {
+            return Err(AppError::invalid(
+                "repeats",
+                format!("repeats must be between 1 and {MAX_REPEATS}, got {repeats}"),
+            ));
+        }
+        // Every run of every row, as `measure` rounds them; in f64 so that no input overflows.
+        let per_method: f64 = steps.iter().map(|&s| (t_end / s).round().max(1.0)).sum();
+        let total = per_method * plan.methods.len() as f64 * repeats as f64;
+        let limit = state.config.max_steps_json;
+        if total > limit as f64 {
+            return Err(AppError::invalid(
+                field,
+                format!(
+                    "{total:.3e} steps in all ({} methods × {repeats} repeats × {per_method:.3e} \
+                     steps per method) exceed the limit of {limit} steps per request; use fewer \
+                     or larger steps, fewer repeats or methods, or a shorter t_end",
+                    plan.methods.len()
+                ),
+            ));
+        }
+        Ok(Self { plan, steps, repeats: repeats as u32 })
+    }
+}
+
+/// The t_end `sim` resolves to, whatever its step.
+fn scene_t_end(sim: &SimulateRequest) -> Result<f64, AppError> {
+    let scene = Scene::resolve(&SceneRequest {
+        system: sim.system.clone(),
+        preset: sim.preset.clone(),
+        params: sim.params.iter().flatten().map(|(n, v)| (n.clone(), *v)).collect(),
+        q: sim.q.clone(),
+        v: sim.v.clone(),
+        // Any step that fits every t_end: only t_end is wanted here.
+        step: Some(f64::MIN_POSITIVE),
+        t_end: sim.t_end,
+    })?;
+    Ok(scene.t_end)
+}
+
+fn given_steps(steps: &[f64], t_end: f64) -> Result<Vec<f64>, AppError> {
+    if steps.is_empty() || steps.len() > MAX_LEVELS {
+        return Err(AppError::invalid(
+            "steps",
+            format!("steps must list 1 to {MAX_LEVELS} step sizes, got {}", steps.len()),
+        ));
+    }
+    for (i, &h) in steps.iter().enumerate() {
+        if !(h.is_finite() && h > 0.0 && h <= t_end) {
+            return Err(AppError::invalid(
+                format!("steps[{i}]"),
+                format!("each step must be positive and at most t_end = {t_end}, got {h}"),
+            ));
+        }
+    }
+    Ok(steps.to_vec())
+}
+
+fn halvings(h: f64, levels: i64) -> Result<Vec<f64>, AppError> {
+    if !(1..=MAX_LEVELS as i64).contains(&levels) {
+        return Err(AppError::invalid(
+            "levels",
+            format!("levels must be between 1 and {MAX_LEVELS}, got {levels}"),
+        ));
+    }
+    Ok((0..levels).map(|k| h / 2f64.powi(k as i32)).collect())
+}
+
+/// Runs every row on the blocking pool.
+///
+/// One task runs the rows one after another rather than one task per method: the point of
+/// the endpoint is the time a run takes, and runs sharing the cores (two here, fewer than
+/// the paper's five methods) would each be timed with the others' contention in it, by
+/// how the scheduler happened to interleave them. Alone, each run's time is its own, and
+/// the minimum over the repetitions removes the rest of the noise.
+async fn run(state: &AppState, job: Job, slot: Slot) -> Result<WorkPrecisionResponse, AppError> {
+    let cancel = Cancel::default();
+    // If the client goes away, this future is dropped and the rows stop.
+    let _on_drop = cancel.on_drop();
+    let (guard, caches) = (state.run_guard(), state.caches.clone());
+    let task = tokio::task::spawn_blocking(move || {
+        let (_guard, _slot) = (guard, slot);
+        crate::runner::lower_priority();
+        catch_unwind(AssertUnwindSafe(|| compute(&job, &caches, &cancel)))
+            .map_err(|_| AppError::internal("internal error: the work-precision run panicked"))?
+    });
+    task.await.map_err(|e| AppError::internal(format!("work-precision task: {e}")))?
+}
+
+fn compute(
+    job: &Job,
+    caches: &crate::Caches,
+    cancel: &Cancel,
+) -> Result<WorkPrecisionResponse, AppError> {
+    let prepared = &job.plan.prepared;
+    let key = crate::cache::ReferenceKey::of(&prepared.scene, TOL);
+    let (solved, cached) = caches.reference.get_or_compute(key, || reference(prepared));
+    let r = solved.map_err(|e| {
+        AppError::invalid(
+            "t_end",
+            format!("{e} (Dop853 to t_end at tolerance {TOL:e}); try a shorter t_end"),
+        )
+    })?;
+    let stop = || cancel.is_cancelled();
+    let mut rows = Vec::with_capacity(job.plan.methods.len() * job.steps.len());
+    for (method, view) in job.plan.methods.iter().zip(&job.plan.scene.methods) {
+        for &h in &job.steps {
+            if stop() {
+                return Err(AppError::internal("the work-precision run was cancelled"));
+            }
+            let row = measure_until(prepared, &r.state, method, h, job.repeats, &stop);
+            let finite = |x: f64| x.is_finite().then_some(x);
+            let max_error = prepared
+                .integrals
+                .iter()
+                .map(|i| (i.id().to_owned(), row.max_error.get(i).copied().and_then(finite)))
+                .collect();
+            rows.push(WorkPrecisionRow {
+                method: view.clone(),
+                step: row.step,
+                steps: row.steps,
+                elapsed_ms: micro(row.elapsed_ms),
+                final_error: row.final_error.and_then(finite),
+                max_error,
+                status: if row.error.is_none() { Status::Ok } else { Status::Failed },
+                error: row.error,
+            });
+        }
+    }
+    Ok(WorkPrecisionResponse {
+        scene: job.plan.scene.clone(),
+        reference: ReferenceView {
+            elapsed_ms: micro(r.elapsed_ms),
+            evaluations: r.state.evaluations,
+            steps: r.state.steps,
+            constraint_residual: r.state.constraint_residual,
+            cached,
+        },
+        rows,
+    })
+}
+
+/// Milliseconds rounded to the microsecond, as the other endpoints report them.
+fn micro(ms: f64) -> f64 {
+    (ms * 1e3).round() / 1e3
+}
