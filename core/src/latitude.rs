@@ -209,37 +209,27 @@ impl LatitudeAxis {
     }
 }
 
-/// Watches a run's steps and reports `|ℓ − ℓ(0)|` at each section crossing.
+/// Watches a run's steps and reports `|ℓ − ℓ(0)|` at each section crossing. It keeps the
+/// previous state rather than its reduced passenger: `k(ζ)` (a sine and a square root) is
+/// then evaluated only at the two steps that bracket a crossing, not at every step.
 #[derive(Debug, Clone)]
-pub struct LatitudeTracker {
+pub struct LatitudeTracker<const N: usize> {
     axis: LatitudeAxis,
     index: i64,
     prev_t: f64,
-    prev_zeta: f64,
-    prev_u: Vector3<f64>,
+    prev_q: Vector<N>,
+    prev_v: Vector<N>,
 }
 
-impl LatitudeTracker {
+impl<const N: usize> LatitudeTracker<N> {
     /// Starts at the initial state.
-    pub fn new<S: System<N, R>, const N: usize, const R: usize>(
-        axis: LatitudeAxis,
-        sys: &S,
-        q: &Vector<N>,
-        v: &Vector<N>,
-    ) -> Self {
-        let zeta = q[N - 1];
-        Self {
-            axis,
-            index: axis.section.index(zeta),
-            prev_t: 0.0,
-            prev_zeta: zeta,
-            prev_u: reduced_passenger(sys, q, v),
-        }
+    pub fn new(axis: LatitudeAxis, q: &Vector<N>, v: &Vector<N>) -> Self {
+        Self { axis, index: axis.section.index(q[N - 1]), prev_t: 0.0, prev_q: *q, prev_v: *v }
     }
 
     /// Takes the state after a step; returns `(t, |ℓ − ℓ(0)|)` at a crossing inside the step.
     #[inline]
-    pub fn observe<S: System<N, R>, const N: usize, const R: usize>(
+    pub fn observe<S: System<N, R>, const R: usize>(
         &mut self,
         sys: &S,
         t: f64,
@@ -248,12 +238,12 @@ impl LatitudeTracker {
     ) -> Option<(f64, f64)> {
         let zeta = q[N - 1];
         let index = self.axis.section.index(zeta);
-        let u = reduced_passenger(sys, q, v);
         let mut out = None;
         if index > self.index {
-            let target = self.axis.section.zeta(index);
-            let theta = ((target - self.prev_zeta) / (zeta - self.prev_zeta)).clamp(0.0, 1.0);
-            let uc = self.prev_u + theta * (u - self.prev_u);
+            let (prev_zeta, target) = (self.prev_q[N - 1], self.axis.section.zeta(index));
+            let theta = ((target - prev_zeta) / (zeta - prev_zeta)).clamp(0.0, 1.0);
+            let prev_u = reduced_passenger(sys, &self.prev_q, &self.prev_v);
+            let uc = prev_u + theta * (reduced_passenger(sys, q, v) - prev_u);
             let latitude = self.axis.axis.dot(&uc) / uc.norm();
             out = Some((
                 self.prev_t + theta * (t - self.prev_t),
@@ -262,8 +252,8 @@ impl LatitudeTracker {
         }
         self.index = index;
         self.prev_t = t;
-        self.prev_zeta = zeta;
-        self.prev_u = u;
+        self.prev_q = *q;
+        self.prev_v = *v;
         out
     }
 }

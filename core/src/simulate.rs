@@ -106,12 +106,18 @@ fn values<S: System<N, R>, const N: usize, const R: usize>(
     energies: bool,
     constraint: bool,
 ) -> [f64; 4] {
-    let (e, h) = if energies {
-        (sys.passenger_energy(&st.q, &st.v), sys.driver_energy(&st.q, &st.v))
-    } else {
-        (0.0, 0.0)
+    // One arm per combination, so that V_d(ζ) and A(ζ) share one sin/cos evaluation when
+    // both are wanted (in separate branches the compiler cannot merge them).
+    let (e, h, c) = match (energies, constraint) {
+        (true, true) => (
+            sys.passenger_energy(&st.q, &st.v),
+            sys.driver_energy(&st.q, &st.v),
+            sys.constraint_residual(&st.q, &st.v),
+        ),
+        (true, false) => (sys.passenger_energy(&st.q, &st.v), sys.driver_energy(&st.q, &st.v), 0.0),
+        (false, true) => (0.0, 0.0, sys.constraint_residual(&st.q, &st.v)),
+        (false, false) => (0.0, 0.0, 0.0),
     };
-    let c = if constraint { sys.constraint_residual(&st.q, &st.v) } else { 0.0 };
     [e + h, e, h, c]
 }
 
@@ -150,7 +156,7 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
         problem.latitude.filter(|_| problem.integrals.contains(&Integral::Latitude)).map(|axis| {
             observer.initial(Integral::Latitude, axis.latitude0);
             let planned = axis.crossings_until(problem.steps as f64 * h);
-            (LatitudeTracker::new(axis, sys, &st.q, &st.v), Bucketer::new(planned, cfg.points))
+            (LatitudeTracker::new(axis, &st.q, &st.v), Bucketer::new(planned, cfg.points))
         });
     let every = cfg.progress_every.max(1);
     for k in 1..=problem.steps {
