@@ -1,6 +1,7 @@
 //! Work–precision table of every method on the two scenes of docs/benchmarks.md: the knife
-//! edge (paper, to t = 100) and the rotating CVT with ε = 0.5 (to t = 3000), steps halved
-//! from the scene's own. Prints CSV (labels quoted: `DLA^{0,1}` has a comma):
+//! edge (paper, to t = 100) and the rotating CVT with ε = 0.5 (to t = 3000), steps divided
+//! by √2 from the scene's own (a ladder as fine as SciPy's half-decade tolerances in
+//! bench/scipy_dop853.py, so that neither side's grid decides an error level). Prints CSV (labels quoted: `DLA^{0,1}` has a comma):
 //! scene,method,step,steps,elapsed_ms,final_error.
 //! `cargo run --release -p nhlab-core --example work_precision > target/wp_nhlab.csv`
 
@@ -9,7 +10,8 @@ use nhlab_core::{Method, MethodSpec, Scene, SceneRequest, method_infos};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("scene,method,step,steps,elapsed_ms,final_error");
-    let scenes = [("knife_edge", "paper", 0.4, 10), ("cvt_pendulum", "rotating-perturbed", 0.2, 9)];
+    let scenes =
+        [("knife_edge", "paper", 0.4, 19), ("cvt_pendulum", "rotating-perturbed", 0.2, 17)];
     for (system, preset, h0, levels) in scenes {
         let req = SceneRequest {
             system: system.into(),
@@ -30,7 +32,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         for m in &methods {
             for k in 0..levels {
-                let h = h0 / 2f64.powi(k);
+                let h = h0 / 2f64.powf(0.5 * k as f64);
                 let row = measure(&scene, &r.state, m, h, 5);
                 println!(
                     "{system}/{preset},\"{}\",{},{},{:.4},{}",
