@@ -114,10 +114,16 @@ impl NewtonConfig {
         // Quadratic convergence: e_{k+1} ≈ C e_k² with C ≈ δ_k/δ_{k−1}², so the error left
         // after this update is about δ_k³/δ_{k−1}². Trusting it (only once δ_k is small
         // enough to be in the quadratic regime) saves the iteration that would only verify.
-        // After the first iteration there is no δ_{k−1} (previous = ∞), so no estimate: a
-        // lucky small first increment still leaves an error of order C δ₁².
-        let predicted = increment * (increment / previous).powi(2);
-        let predicted = if previous.is_finite() { predicted } else { f64::INFINITY };
+        // After the first iteration there is no δ_{k−1} (previous = ∞) to estimate C from: a
+        // lucky small first increment still leaves an error of order C δ₁², taken with
+        // C = 1 (the nonlinearities here are scaled by h, so C ≲ 1). Trusting δ₁ itself
+        // would accept δ₁ = 10⁻⁶ with an error of 10⁻¹²; never trusting it would make a
+        // tiny step (h = 10⁻⁶) iterate into the round-off noise of DD's discrete gradient.
+        let predicted = if previous.is_finite() {
+            increment * (increment / previous).powi(2)
+        } else {
+            increment * increment
+        };
         increment <= self.tol * scale
             || (increment <= QUADRATIC_REGIME * scale && predicted <= self.tol * scale)
             || (increment <= self.stagnation_tol * scale && increment >= 0.5 * previous)
