@@ -36,7 +36,7 @@ import sys
 import threading
 import time
 
-from nhlab_bench import ROOT, Server, build, cpu_seconds, log, median, other_load
+from nhlab_bench import ROOT, Quiet, Server, build, cpu_seconds, log, median, other_load
 
 SCENES = [
     ("knife_edge", "paper"),
@@ -107,18 +107,21 @@ def the_set(server, width):
     return wall, [parse(raw) for raw in out]
 
 
-def measure(server, width, reps):
+def measure(server, width, reps, quiet):
     the_set(server, width)  # warm-up
     walls, sums, maxes, steps = [], [], [], None
-    c0 = cpu_seconds(server.pid)
+    cpu = 0.0
     for _ in range(reps):
+        quiet.wait()
+        c0 = cpu_seconds(server.pid)
         wall, out = the_set(server, width)
+        cpu += cpu_seconds(server.pid) - c0
         walls.append(wall)
         sums.append(sum(sum(ms) for ms, _, _ in out) / 1e3)
         maxes.append(sum(max(ms) for ms, _, _ in out) / 1e3)
         steps = sum(n for _, n, _ in out)
         size = sum(b for _, _, b in out)
-    cpu = (cpu_seconds(server.pid) - c0) / reps
+    cpu /= reps
     return {"wall": walls, "sum": sums, "max": maxes, "cpu": cpu, "steps": steps, "bytes": size}
 
 
@@ -151,26 +154,34 @@ def main():
     ap.add_argument("--no-baseline", dest="baseline", action="store_false",
                     help="skip the core-alone figure_set example")
     ap.add_argument("--baseline-nice", type=int, default=19)
+    ap.add_argument("--max-busy", type=float, default=0.15,
+                    help="wait before each set until the cores are at most this busy "
+                         "(1 = never wait)")
+    ap.add_argument("--quiet-timeout", type=float, default=60.0)
     args = ap.parse_args()
+    quiet = Quiet(args.max_busy, args.quiet_timeout)
 
     binary = build(args.no_build)
     base = None
     if args.baseline:
-        base = [core_baseline(args.no_build or i > 0, args.baseline_nice) for i in range(3)]
+        base = []
+        for i in range(3):
+            quiet.wait()
+            base.append(core_baseline(args.no_build or i > 0, args.baseline_nice))
     rows = []
     server = Server(binary, port=args.port)
     slots = server.get("/health")["max_simulations"]
     log(f"default server: max_simulations = {slots}")
     log("== sequential")
-    rows.append(("sequential (default server)", measure(server, 1, args.reps)))
+    rows.append(("sequential (default server)", measure(server, 1, args.reps, quiet)))
     log(f"== {slots} at a time")
     rows.append((f"concurrent, {slots} at a time (default server, {slots} slots)",
-                 measure(server, slots, args.reps)))
+                 measure(server, slots, args.reps, quiet)))
     server.stop()
     if args.six:
         server = Server(binary, ["--max-simulations", "6"], port=args.port)
         log("== six at once")
-        rows.append(("six at once (--max-simulations 6)", measure(server, 6, args.reps)))
+        rows.append(("six at once (--max-simulations 6)", measure(server, 6, args.reps, quiet)))
         server.stop()
 
     def mm(xs):
@@ -191,6 +202,7 @@ def main():
               f" | – | – | {min(c for _, c in base) * 1e3:.0f} |")
     print()
     print(f"machine: {other_load()}")
+    print(f"shared machine: {quiet.report()}")
     best = min(rows[1:], key=lambda r: min(r[1]["wall"]))
     print(f"SUMMARY figure set through /simulate: wall {min(best[1]['wall']) * 1e3:.1f} ms "
           f"({best[0]}), sequential {min(rows[0][1]['wall']) * 1e3:.1f} ms; server CPU "

@@ -251,6 +251,52 @@ def other_load():
     return f"load average {load}; busiest processes (%CPU since start): {top}"
 
 
+def _cpu_times():
+    with open("/proc/stat") as f:
+        v = [int(x) for x in f.readline().split()[1:]]
+    idle = v[3] + v[4]  # idle + iowait
+    return sum(v), idle
+
+
+def busy_fraction(window=0.3):
+    """Fraction of all cores busy during the next `window` seconds (whoever uses them)."""
+    t0, i0 = _cpu_times()
+    time.sleep(window)
+    t1, i1 = _cpu_times()
+    return 1 - (i1 - i0) / max(1, t1 - t0)
+
+
+class Quiet:
+    """On a shared machine: waits before each measurement until the cores are nearly idle
+    (busy ≤ `max_busy` over 0.3 s), at most `timeout` seconds, and counts the measurements
+    that had to start anyway."""
+
+    def __init__(self, max_busy=0.15, timeout=60.0):
+        self.max_busy, self.timeout = max_busy, timeout
+        self.waited, self.loaded, self.count = 0.0, 0, 0
+
+    def wait(self):
+        if self.max_busy >= 1:
+            return
+        t0 = time.perf_counter()
+        self.count += 1
+        while True:
+            busy = busy_fraction()
+            if busy <= self.max_busy:
+                break
+            if time.perf_counter() - t0 > self.timeout:
+                self.loaded += 1
+                break
+        self.waited += time.perf_counter() - t0
+
+    def report(self):
+        return (
+            f"{self.count} measurements, each started once the cores were ≤ "
+            f"{self.max_busy:.0%} busy over 0.3 s (waited {self.waited:.0f} s in all; "
+            f"{self.loaded} started after {self.timeout:.0f} s under load anyway)"
+        )
+
+
 def median(xs):
     s = sorted(xs)
     n = len(s)

@@ -29,16 +29,18 @@ Target (issue 4): under 10 %.
 """
 
 import argparse
+import atexit
 import json
 import os
 import resource
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 
 from nhlab_bench import ROOT, Server, build, cpu_seconds, log, median, other_load, stream
-from nhlab_bench import post_json
+from nhlab_bench import Quiet, post_json
 
 H_KNIFE = None  # filled from /systems
 
@@ -94,15 +96,19 @@ def body(scene, t_end):
     return b
 
 
-def curl_stream(server, req):
+def curl_stream(server, req, path):
+    """curl reads the stream into `path`; returns (wall s, the `done` event's elapsed s)."""
     url = f"http://{server.host}:{server.port}/simulate"
     out = subprocess.run(
-        ["curl", "-sS", "-N", "-o", "/dev/null", "-w", "%{time_total} %{size_download}",
+        ["curl", "-sS", "-N", "-o", path, "-w", "%{time_total}",
          "-H", "accept: text/event-stream", "-H", "content-type: application/json",
          "--data-binary", json.dumps(req), url],
         capture_output=True, text=True, check=True,
-    ).stdout.split()
-    return float(out[0]), int(out[1])
+    ).stdout
+    with open(path, "rb") as f:
+        tail = f.read()[-4096:].decode(errors="replace")
+    done = json.loads(tail.split("event: done", 1)[1].split("data: ", 1)[1].split("\n", 1)[0])
+    return float(out), done["elapsed_ms"] / 1e3
 
 
 def fmt(xs, unit=1e3):
@@ -116,11 +122,18 @@ def main():
     ap.add_argument("--reps", type=int, default=9)
     ap.add_argument("--baseline-nice", type=int, default=19)
     ap.add_argument("--scenes", default="long,cvt")
+    ap.add_argument("--max-busy", type=float, default=0.15,
+                    help="wait before each measurement until the cores are at most this busy "
+                         "(1 = never wait)")
+    ap.add_argument("--quiet-timeout", type=float, default=60.0)
     args = ap.parse_args()
+    quiet = Quiet(args.max_busy, args.quiet_timeout)
 
     binary = build(args.no_build)
     base = baseline_binary(args.no_build)
     has_curl = shutil.which("curl") is not None
+    tmp = tempfile.NamedTemporaryFile(prefix="nhlab-stream-", delete=False).name
+    atexit.register(os.remove, tmp)
     server = Server(binary, port=args.port)
     info = server.get("/systems")
     knife = next(s for s in info["systems"] if s["id"] == "knife_edge")
@@ -139,10 +152,12 @@ def main():
              "py_runs": [], "curl": [], "curl_done": [], "json": [], "json_runs": [],
              "events": None, "bytes": None, "base_cpu": [], "stream_cpu": []}
         for i in range(args.reps):
+            quiet.wait()
             lines, cpu = run_baseline(base, scene, t_end, 1, args.baseline_nice)
             r["base"] += [ln["wall_ms"] / 1e3 for ln in lines]
             r["base_runs"] += [max(ln["runs_ms"]) / 1e3 for ln in lines]
             r["base_cpu"].append(cpu)
+            quiet.wait()
             c0 = cpu_seconds(server.pid)
             res = stream(server, req)
             r["stream_cpu"].append(cpu_seconds(server.pid) - c0)
@@ -153,8 +168,11 @@ def main():
             r["py_runs"].append(max(x["elapsed_ms"] for x in res.of("run")) / 1e3)
             r["events"], r["bytes"] = len(res.events), res.bytes
             if has_curl:
-                wall, size = curl_stream(server, req)
+                quiet.wait()
+                wall, done_s = curl_stream(server, req, tmp)
                 r["curl"].append(wall)
+                r["curl_done"].append(done_s)
+            quiet.wait()
             status, js, wall = post_json(server, req)
             assert status == 200, js
             r["json"].append(wall)
@@ -172,12 +190,13 @@ def main():
           "python client (wall) | server's `done` elapsed_ms | longest run's elapsed_ms in the "
           "stream | stream, curl | JSON request | events / bytes | CPU per request: "
           "baseline / server (stream) |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     summary = []
     for r in results:
         curl = fmt(r["curl"]) if r["curl"] else "–"
+        curl_done = fmt(r["curl_done"]) if r["curl_done"] else "–"
         print(f"| {r['label']} | {fmt(r['base'])} | {fmt(r['base_runs'])} | {fmt(r['py'])} | "
-              f"{fmt(r['py_done'])} | {fmt(r['py_runs'])} | {curl} | {fmt(r['json'])} | "
+              f"{fmt(r['py_done'])} | {fmt(r['py_runs'])} | {curl} | {curl_done} | {fmt(r['json'])} | "
               f"{r['events']} / {r['bytes']} | {sum(r['base_cpu']) / len(r['base_cpu']) * 1e3:.0f}"
               f" / {sum(r['stream_cpu']) / len(r['stream_cpu']) * 1e3:.0f} |")
         b_min, b_med = min(r["base"]), median(r["base"])
@@ -187,8 +206,13 @@ def main():
                 o_med = (median(r[client]) - b_med) / b_med
                 summary.append(f"{r['label'].split(',')[0]} {client}: {o_min:+.1%} (min) "
                                f"{o_med:+.1%} (median)")
+        d = r["curl_done"] or r["py_done"]
+        summary.append(f"{r['label'].split(',')[0]} server side (`done`): "
+                       f"{(min(d) - b_min) / b_min:+.1%} (min) {(median(d) - b_med) / b_med:+.1%} "
+                       "(median)")
     print()
     print(f"machine: {other_load()}")
+    print(f"shared machine: {quiet.report()}")
     print("SUMMARY stream overhead (stream wall − compute)/compute: " + "; ".join(summary))
     return 0
 
