@@ -7,11 +7,14 @@
 #
 #   bench/profile_stream.sh              # 60 streams
 #   N=200 BINARY=/path/to/nhlab bench/profile_stream.sh
+#   MODE=figure_set N=20 bench/profile_stream.sh   # instead: N times the paper's six
+#                                                  # experiments as JSON (POST /simulate)
 #
 # Needs perf (apt: linux-perf) and kernel.perf_event_paranoid ≤ 2 (or root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 N=${N:-60}
+MODE=${MODE:-stream}
 if [[ -z ${BINARY:-} ]]; then
     cargo build --release --quiet -p nhlab-server
     BINARY="${CARGO_TARGET_DIR:-target}/release/nhlab"
@@ -41,6 +44,17 @@ one() {
     curl -sSf -N -o /dev/null -H 'accept: text/event-stream' -H 'content-type: application/json' \
         --data-binary "$body" "$url/simulate"
 }
+if [[ $MODE == figure_set ]]; then
+    one() {
+        for scene in knife_edge/paper knife_edge/paper-perturbed cvt_pendulum/oscillating \
+            cvt_pendulum/rotating cvt_pendulum/oscillating-perturbed \
+            cvt_pendulum/rotating-perturbed; do
+            curl -sSf -o /dev/null -H 'content-type: application/json' \
+                --data-binary "{\"system\":\"${scene%/*}\",\"preset\":\"${scene#*/}\"}" \
+                "$url/simulate"
+        done
+    }
+fi
 one # warm-up
 perf record -q -F 1999 -g -p "$server" -o "$work/perf.data" 2>"$work/perf.log" &
 perf=$!

@@ -188,8 +188,8 @@ def main():
     print()
     print("| scene | compute alone (baseline wall) | longest run in the baseline | stream, "
           "python client (wall) | server's `done` elapsed_ms | longest run's elapsed_ms in the "
-          "stream | stream, curl | JSON request | events / bytes | CPU per request: "
-          "baseline / server (stream) |")
+          "stream | stream, curl (wall) | server's `done`, curl | JSON request | events / bytes "
+          "| CPU per request: baseline / server (stream) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     summary = []
     for r in results:
