@@ -9,8 +9,9 @@ use std::ops::ControlFlow;
 /// Collects a run's series.
 #[derive(Debug)]
 pub struct Collector {
-    /// Series by integral id (every integral of the plan, possibly empty).
-    pub series: BTreeMap<String, SeriesView>,
+    /// Series by integral (every integral of the plan, possibly empty); keyed by the
+    /// integral, not its id, so that a bucket costs no string allocation.
+    pub series: BTreeMap<Integral, SeriesView>,
     /// The series kept whole for their verdicts.
     pub verdicts: Verdicts,
     cancel: Cancel,
@@ -19,18 +20,20 @@ pub struct Collector {
 impl Collector {
     /// A collector for `integrals`, stopping when `cancel` is set.
     pub fn new(integrals: &[Integral], cancel: Cancel) -> Self {
-        let series = integrals.iter().map(|i| (i.id().to_owned(), SeriesView::default())).collect();
+        let series = integrals.iter().map(|&i| (i, SeriesView::default())).collect();
         Self { series, verdicts: Verdicts::default(), cancel }
     }
 
-    /// The series, each with its verdict (null for an empty series).
+    /// The series by integral id, each with its verdict (null for an empty series).
     pub fn into_series(self) -> BTreeMap<String, SeriesView> {
-        let mut series = self.series;
-        for (id, s) in &mut series {
-            let verdict = Integral::from_id(id).and_then(|i| self.verdicts.of(i));
-            s.verdict = Some(verdict);
-        }
-        series
+        let verdicts = self.verdicts;
+        self.series
+            .into_iter()
+            .map(|(i, mut s)| {
+                s.verdict = Some(verdicts.of(i));
+                (i.id().to_owned(), s)
+            })
+            .collect()
     }
 }
 
@@ -40,7 +43,7 @@ impl Observer for Collector {
     }
 
     fn points(&mut self, integral: Integral, bucket: Bucket) {
-        self.series.entry(integral.id().to_owned()).or_default().push(bucket);
+        self.series.entry(integral).or_default().push(bucket);
         self.verdicts.push(integral, bucket);
     }
 
