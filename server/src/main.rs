@@ -113,6 +113,9 @@ async fn main() -> std::process::ExitCode {
             return std::process::ExitCode::FAILURE;
         }
     };
+    // Signal handlers first: a SIGINT sent right after the "listening" line must not meet
+    // the default disposition (that race killed the server in a CI run of the shutdown test).
+    let signals = shutdown_signal();
     match listener.local_addr() {
         Ok(addr) => tracing::info!("nhlab listening on http://{addr}"),
         Err(e) => tracing::warn!("listening, address unknown: {e}"),
@@ -121,7 +124,7 @@ async fn main() -> std::process::ExitCode {
     let state = AppState::new(args.config());
     let (stop_tx, mut stop_rx) = watch::channel(false);
     let server = axum::serve(listener, app(state.clone())).with_graceful_shutdown(async move {
-        shutdown_signal().await;
+        signals.await;
         tracing::info!("shutting down: no new connections, ending streams, finishing requests");
         state.shut_down();
         let _ = stop_tx.send(true);
@@ -147,29 +150,39 @@ async fn main() -> std::process::ExitCode {
     std::process::ExitCode::SUCCESS
 }
 
-async fn shutdown_signal() {
-    let ctrl_c = async {
-        if let Err(e) = tokio::signal::ctrl_c().await {
-            tracing::error!("cannot listen for Ctrl-C: {e}");
-            std::future::pending::<()>().await;
-        }
-    };
-    #[cfg(unix)]
-    let terminate = async {
-        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+/// Registers SIGINT and SIGTERM now (tokio installs a Unix signal handler when the stream is
+/// created, not when it is first polled) and resolves on the first of them.
+#[cfg(unix)]
+fn shutdown_signal() -> impl std::future::Future<Output = ()> {
+    use tokio::signal::unix::{Signal, SignalKind, signal};
+    let wait = |s: std::io::Result<Signal>, name: &'static str| async move {
+        match s {
             Ok(mut s) => {
                 s.recv().await;
             }
             Err(e) => {
-                tracing::error!("cannot listen for SIGTERM: {e}");
+                tracing::error!("cannot listen for {name}: {e}");
                 std::future::pending::<()>().await;
             }
         }
     };
-    #[cfg(not(unix))]
-    let terminate = std::future::pending::<()>();
-    tokio::select! {
-        () = ctrl_c => {}
-        () = terminate => {}
+    let interrupt = wait(signal(SignalKind::interrupt()), "SIGINT");
+    let terminate = wait(signal(SignalKind::terminate()), "SIGTERM");
+    async move {
+        tokio::select! {
+            () = interrupt => {}
+            () = terminate => {}
+        }
+    }
+}
+
+/// Ctrl-C elsewhere.
+#[cfg(not(unix))]
+fn shutdown_signal() -> impl std::future::Future<Output = ()> {
+    async {
+        if let Err(e) = tokio::signal::ctrl_c().await {
+            tracing::error!("cannot listen for Ctrl-C: {e}");
+            std::future::pending::<()>().await;
+        }
     }
 }

@@ -116,7 +116,7 @@ impl Dla {
         st: &mut State<N, R>,
         h: f64,
         q_a: Vector<N>,
-        a_qa: &crate::Matrix<R, N>,
+        a_qa: &Matrix<R, N>,
         g0: &Vector<N>,
     ) -> Result<(), StepFailure> {
         let a = self.alpha;
