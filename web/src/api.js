@@ -61,9 +61,9 @@ export async function simulate(body, { signal, onEvent }) {
   }
 }
 
-/** `POST /scorecard` (JSON). Rejects with an ApiError for a 4xx/5xx answer. */
-export async function fetchScorecard(body, { signal } = {}) {
-  const response = await fetch('scorecard', {
+/** `POST path` with a JSON body and a JSON answer; rejects with an ApiError for a 4xx/5xx. */
+async function postJson(path, body, { signal } = {}) {
+  const response = await fetch(path, {
     method: 'POST',
     headers: { 'Content-Type': 'application/json', Accept: 'application/json' },
     body: JSON.stringify(body),
@@ -73,16 +73,14 @@ export async function fetchScorecard(body, { signal } = {}) {
   return response.json();
 }
 
+/** `POST /scorecard` (JSON). Rejects with an ApiError for a 4xx/5xx answer. */
+export function fetchScorecard(body, options) {
+  return postJson('scorecard', body, options);
+}
+
 /** `POST /work-precision` (JSON). Rejects with an ApiError for a 4xx/5xx answer. */
-export async function fetchWorkPrecision(body, { signal } = {}) {
-  const response = await fetch('work-precision', {
-    method: 'POST',
-    headers: { 'Content-Type': 'application/json', Accept: 'application/json' },
-    body: JSON.stringify(body),
-    signal,
-  });
-  if (!response.ok) throw await errorFrom(response);
-  return response.json();
+export function fetchWorkPrecision(body, options) {
+  return postJson('work-precision', body, options);
 }
 
 /** Seconds to wait before retrying a 503 (the server's `Retry-After`, else 1). */
