@@ -40,6 +40,29 @@ impl TestServer {
     pub fn at(&self, path: &str) -> String {
         format!("{}{path}", self.url)
     }
+
+    /// `POST path` with a JSON body: the status and the JSON answer.
+    pub async fn post_json(&self, path: &str, body: &Value) -> (u16, Value) {
+        let response = reqwest::Client::new()
+            .post(self.at(path))
+            .json(body)
+            .send()
+            .await
+            .expect("request succeeds");
+        let status = response.status().as_u16();
+        (status, response.json().await.expect("a JSON body"))
+    }
+
+    /// Waits until no run computes and no slot is held, failing after `limit`; how long it
+    /// took.
+    pub async fn wait_idle(&self, limit: std::time::Duration) -> std::time::Duration {
+        let start = std::time::Instant::now();
+        while self.state.active_runs() > 0 || self.state.busy_slots() > 0 {
+            assert!(start.elapsed() < limit, "runs still going after {limit:?}");
+            tokio::time::sleep(std::time::Duration::from_millis(2)).await;
+        }
+        start.elapsed()
+    }
 }
 
 impl Drop for TestServer {

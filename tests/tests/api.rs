@@ -6,18 +6,7 @@ use nhlab_server::{Config, Page};
 use nhlab_tests::{SseEvent, SseReader, TestServer};
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
-use std::time::{Duration, Instant};
-
-async fn post(server: &TestServer, body: &Value) -> (u16, Value) {
-    let response = reqwest::Client::new()
-        .post(server.at("/simulate"))
-        .json(body)
-        .send()
-        .await
-        .expect("request succeeds");
-    let status = response.status().as_u16();
-    (status, response.json().await.expect("a JSON body"))
-}
+use std::time::Duration;
 
 async fn post_stream(server: &TestServer, body: &Value) -> reqwest::Response {
     let response = reqwest::Client::new()
@@ -172,7 +161,7 @@ async fn page_and_its_assets_are_served_with_content_types() {
 #[tokio::test]
 async fn simulate_defaults_come_from_the_first_preset_and_the_paper() {
     let server = TestServer::start().await;
-    let (status, body) = post(&server, &json!({"system": "knife_edge"})).await;
+    let (status, body) = server.post_json("/simulate", &json!({"system": "knife_edge"})).await;
     assert_eq!(status, 200, "{body}");
     let scene = &body["scene"];
     assert_eq!(scene["system"], "knife_edge");
@@ -223,7 +212,7 @@ async fn simulate_explicit_fields_override_the_preset() {
         "methods": [{"id": "dla", "alpha": 0.4}, {"id": "leapfrog"}, "dd"],
         "integrals": ["passenger_energy", "latitude"], "points": 100,
     });
-    let (status, body) = post(&server, &request).await;
+    let (status, body) = server.post_json("/simulate", &request).await;
     assert_eq!(status, 200, "{body}");
     let scene = &body["scene"];
     assert_eq!(scene["preset"], "rotating");
@@ -299,7 +288,7 @@ fn reassemble(events: &[SseEvent]) -> Streamed {
 
 async fn stream_equals_json(config: Config, request: Value) -> Streamed {
     let server = TestServer::with_config(config).await;
-    let (status, json) = post(&server, &request).await;
+    let (status, json) = server.post_json("/simulate", &request).await;
     assert_eq!(status, 200, "{json}");
     let events = SseReader::new(post_stream(&server, &request).await).collect().await;
     let streamed = reassemble(&events);
@@ -352,7 +341,7 @@ async fn stream_equals_json_with_the_default_methods() {
 async fn failed_runs_say_so_and_keep_their_series() {
     let request = json!({"system": "cvt", "step": 3, "t_end": 1000, "points": 1000});
     let server = TestServer::start().await;
-    let (status, body) = post(&server, &request).await;
+    let (status, body) = server.post_json("/simulate", &request).await;
     assert_eq!(status, 200, "{body}");
     let steps = body["scene"]["steps"].as_u64().unwrap();
     let failed: Vec<&Value> =
@@ -393,12 +382,8 @@ async fn methods_run_in_parallel_and_stop_when_the_client_leaves() {
     assert_eq!(health["active_runs"], 2);
 
     drop(events); // the client goes away: the connection closes
-    let left = Instant::now();
-    while server.state.active_runs() > 0 {
-        assert!(left.elapsed() < Duration::from_millis(500), "runs still going after 500 ms");
-        tokio::time::sleep(Duration::from_millis(2)).await;
-    }
-    eprintln!("runs stopped {:?} after the client left", left.elapsed());
+    let took = server.wait_idle(Duration::from_millis(500)).await;
+    eprintln!("runs stopped {took:?} after the client left");
 }
 
 #[tokio::test]
@@ -415,10 +400,6 @@ async fn a_json_request_stops_when_the_client_leaves() {
     assert!(waited.is_err(), "the runs should take longer than 300 ms");
     assert_eq!(server.state.active_runs(), 2, "both methods run at once");
     drop(client); // the request future was dropped with the timeout: the connection closes
-    let left = Instant::now();
-    while server.state.active_runs() > 0 {
-        assert!(left.elapsed() < Duration::from_millis(500), "runs still going after 500 ms");
-        tokio::time::sleep(Duration::from_millis(2)).await;
-    }
-    eprintln!("runs stopped {:?} after the client left", left.elapsed());
+    let took = server.wait_idle(Duration::from_millis(500)).await;
+    eprintln!("runs stopped {took:?} after the client left");
 }

@@ -7,17 +7,6 @@ use nhlab_tests::{SseReader, TestServer};
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
 
-async fn post(server: &TestServer, path: &str, body: &Value) -> (u16, Value) {
-    let response = reqwest::Client::new()
-        .post(server.at(path))
-        .json(body)
-        .send()
-        .await
-        .expect("request succeeds");
-    let status = response.status().as_u16();
-    (status, response.json().await.expect("a JSON body"))
-}
-
 /// `label → kind` of the verdicts `verdict(run)` of a list of runs.
 fn kinds<'a>(
     runs: &'a [Value],
@@ -40,7 +29,7 @@ fn table(pairs: &[(&str, &str)]) -> BTreeMap<String, String> {
 async fn simulate_series_carry_verdicts_and_the_stream_agrees() {
     let server = TestServer::start().await;
     let body = json!({"system": "knife_edge", "preset": "paper"});
-    let (status, json) = post(&server, "/simulate", &body).await;
+    let (status, json) = server.post_json("/simulate", &body).await;
     assert_eq!(status, 200, "{json}");
     let runs = json["runs"].as_array().unwrap();
     let energy = kinds(runs, |r| &r["series"]["energy"]["verdict"]);
@@ -96,7 +85,7 @@ async fn simulate_series_carry_verdicts_and_the_stream_agrees() {
 #[tokio::test]
 async fn default_scorecard_reproduces_the_papers_tables() {
     let server = TestServer::start().await;
-    let (status, card) = post(&server, "/scorecard", &json!({})).await;
+    let (status, card) = server.post_json("/scorecard", &json!({})).await;
     assert_eq!(status, 200, "{card}");
     assert!(card["criterion"].as_str().unwrap().contains("1e-10"));
     let methods: Vec<&str> =
@@ -188,7 +177,7 @@ async fn scorecard_takes_given_scenes_and_methods() {
         ],
         "points": 200,
     });
-    let (status, card) = post(&server, "/scorecard", &body).await;
+    let (status, card) = server.post_json("/scorecard", &body).await;
     assert_eq!(status, 200, "{card}");
     let scenes = card["scenes"].as_array().unwrap();
     assert_eq!(scenes[0]["id"], "knife_edge/paper");
@@ -227,13 +216,13 @@ async fn scorecard_errors_name_the_field() {
         (json!({"scene": []}), 400, "scene"),
     ];
     for (body, code, path) in cases {
-        let (status, err) = post(&server, "/scorecard", &body).await;
+        let (status, err) = server.post_json("/scorecard", &body).await;
         assert_eq!(status, code, "{body}: {err}");
         assert_eq!(err["path"], path, "{body}: {err}");
         assert!(!err["error"].as_str().unwrap().is_empty());
     }
     let many: Vec<Value> = (0..17).map(|_| json!({"system": "knife_edge"})).collect();
-    let (status, err) = post(&server, "/scorecard", &json!({ "scenes": many })).await;
+    let (status, err) = server.post_json("/scorecard", &json!({ "scenes": many })).await;
     assert_eq!((status, err["path"].as_str()), (422, Some("scenes")), "{err}");
 }
 

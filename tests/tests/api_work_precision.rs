@@ -6,18 +6,7 @@
 use nhlab_server::Config;
 use nhlab_tests::TestServer;
 use serde_json::{Value, json};
-use std::time::{Duration, Instant};
-
-async fn post(server: &TestServer, path: &str, body: &Value) -> (u16, Value) {
-    let response = reqwest::Client::new()
-        .post(server.at(path))
-        .json(body)
-        .send()
-        .await
-        .expect("request succeeds");
-    let status = response.status().as_u16();
-    (status, response.json().await.expect("a JSON body"))
-}
+use std::time::Duration;
 
 async fn health(server: &TestServer) -> Value {
     reqwest::get(server.at("/health")).await.unwrap().json().await.unwrap()
@@ -49,7 +38,7 @@ async fn second_order_methods_show_order_two_on_the_knife_edge() {
         "methods": ["leapfrog", "dla01", {"id": "dla", "alpha": 0.4}],
         "steps": [0.1, 0.05, 0.025, 0.0125], "repeats": 1,
     });
-    let (status, wp) = post(&server, "/work-precision", &body).await;
+    let (status, wp) = server.post_json("/work-precision", &body).await;
     assert_eq!(status, 200, "{wp}");
     let rows = wp["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 3 * 4, "one row per method × step");
@@ -85,7 +74,7 @@ async fn levels_halve_the_scenes_step_and_default_to_four() {
     let server = TestServer::start().await;
     let body = json!({"system": "knife_edge", "preset": "paper", "t_end": 20, "levels": 3,
                       "methods": ["dd"], "integrals": ["energy"]});
-    let (status, wp) = post(&server, "/work-precision", &body).await;
+    let (status, wp) = server.post_json("/work-precision", &body).await;
     assert_eq!(status, 200, "{wp}");
     let h = std::f64::consts::PI / 10.0;
     assert_eq!(wp["scene"]["step"].as_f64(), Some(h));
@@ -102,7 +91,7 @@ async fn levels_halve_the_scenes_step_and_default_to_four() {
     }
     // No steps, no levels: four levels; the paper's five methods by default.
     let body = json!({"system": "knife_edge", "preset": "paper", "t_end": 5, "repeats": 1});
-    let (status, wp) = post(&server, "/work-precision", &body).await;
+    let (status, wp) = server.post_json("/work-precision", &body).await;
     assert_eq!(status, 200, "{wp}");
     assert_eq!(wp["rows"].as_array().unwrap().len(), 5 * 4);
     assert_eq!(wp["scene"]["methods"].as_array().unwrap().len(), 5);
@@ -110,7 +99,7 @@ async fn levels_halve_the_scenes_step_and_default_to_four() {
     // preset's step (π/10) would not fit t_end.
     let body = json!({"system": "knife_edge", "preset": "paper", "t_end": 0.2,
                       "steps": [0.05, 0.1], "methods": ["leapfrog"], "repeats": 1});
-    let (status, wp) = post(&server, "/work-precision", &body).await;
+    let (status, wp) = server.post_json("/work-precision", &body).await;
     assert_eq!(status, 200, "{wp}");
     assert_eq!(wp["scene"]["step"], 0.1);
     let steps: Vec<u64> =
@@ -124,7 +113,7 @@ async fn a_failed_row_has_no_final_error() {
     // h = 2.5 on the CVT: the leap-frog diverges (core/tests/work_precision.rs).
     let body = json!({"system": "cvt", "t_end": 1000, "steps": [2.5], "methods": ["leapfrog"],
                       "repeats": 1});
-    let (status, wp) = post(&server, "/work-precision", &body).await;
+    let (status, wp) = server.post_json("/work-precision", &body).await;
     assert_eq!(status, 200, "{wp}");
     let row = &wp["rows"][0];
     assert_eq!(row["status"], "failed", "{row}");
@@ -166,7 +155,7 @@ async fn bad_fields_are_named() {
         (json!({"preset": "paper"}), 400, "system"),
     ];
     for (body, code, path) in cases {
-        let (status, err) = post(&server, "/work-precision", &body).await;
+        let (status, err) = server.post_json("/work-precision", &body).await;
         assert_eq!(status, code, "{body}: {err}");
         assert_eq!(err["path"], path, "{body}: {err}");
         assert!(!err["error"].as_str().unwrap().is_empty(), "{err}");
@@ -183,7 +172,7 @@ async fn a_busy_server_says_503_and_a_leaving_client_stops_the_runs() {
     assert_eq!(response.status(), 503);
     assert_eq!(response.headers()["retry-after"], "1");
     drop(slot);
-    let (status, _) = post(&server, "/work-precision", &body).await;
+    let (status, _) = server.post_json("/work-precision", &body).await;
     assert_eq!(status, 200);
 
     // 1.5·10⁷ steps of DD: seconds of work; the client gives up after 300 ms.
@@ -195,12 +184,8 @@ async fn a_busy_server_says_503_and_a_leaving_client_stops_the_runs() {
     assert!(waited.is_err(), "the run should take longer than 300 ms");
     assert_eq!(server.state.active_runs(), 1, "the rows run");
     drop(client);
-    let left = Instant::now();
-    while server.state.active_runs() > 0 || server.state.busy_slots() > 0 {
-        assert!(left.elapsed() < Duration::from_millis(500), "still running after 500 ms");
-        tokio::time::sleep(Duration::from_millis(2)).await;
-    }
-    eprintln!("work-precision stopped {:?} after the client left", left.elapsed());
+    let took = server.wait_idle(Duration::from_millis(500)).await;
+    eprintln!("work-precision stopped {took:?} after the client left");
 }
 
 #[tokio::test]
@@ -208,10 +193,10 @@ async fn a_second_request_reuses_the_reference_and_gives_the_same_numbers() {
     let server = TestServer::start().await;
     let body = json!({"system": "knife_edge", "preset": "paper-perturbed", "t_end": 30,
                       "levels": 2, "methods": ["leapfrog", "dd"], "repeats": 1});
-    let (status, first) = post(&server, "/work-precision", &body).await;
+    let (status, first) = server.post_json("/work-precision", &body).await;
     assert_eq!(status, 200, "{first}");
     assert_eq!(first["reference"]["cached"], false);
-    let (status, second) = post(&server, "/work-precision", &body).await;
+    let (status, second) = server.post_json("/work-precision", &body).await;
     assert_eq!(status, 200, "{second}");
     assert_eq!(second["reference"]["cached"], true);
     let strip = |v: &Value| {
@@ -228,7 +213,7 @@ async fn a_second_request_reuses_the_reference_and_gives_the_same_numbers() {
     // Another t_end is another reference.
     let mut other = body.clone();
     other["t_end"] = json!(31);
-    let (_, third) = post(&server, "/work-precision", &other).await;
+    let (_, third) = server.post_json("/work-precision", &other).await;
     assert_eq!(third["reference"]["cached"], false);
 }
 
@@ -239,24 +224,24 @@ async fn the_latitude_axis_is_computed_once_per_scene_across_endpoints() {
                        "integrals": ["latitude"], "methods": ["leapfrog"]});
     let latitude = |h: &Value| h["cache"]["latitude"].clone();
     assert_eq!(latitude(&health(&server).await), json!({"hits": 0, "misses": 0, "entries": 0}));
-    let (status, a) = post(&server, "/simulate", &scene).await;
+    let (status, a) = server.post_json("/simulate", &scene).await;
     assert_eq!(status, 200, "{a}");
     assert_eq!(latitude(&health(&server).await), json!({"hits": 0, "misses": 1, "entries": 1}));
-    let (_, b) = post(&server, "/simulate", &scene).await;
+    let (_, b) = server.post_json("/simulate", &scene).await;
     assert_eq!(latitude(&health(&server).await), json!({"hits": 1, "misses": 1, "entries": 1}));
     assert_eq!(a["runs"][0]["series"], b["runs"][0]["series"], "the same latitude series");
     // Another t_end or step: the same axis. Another start: another axis.
     let mut wp = scene.clone();
     wp["steps"] = json!([0.1, 0.05]);
     wp["repeats"] = json!(1);
-    let (status, w) = post(&server, "/work-precision", &wp).await;
+    let (status, w) = server.post_json("/work-precision", &wp).await;
     assert_eq!(status, 200, "{w}");
     assert!(w["rows"][0]["max_error"]["latitude"].as_f64().unwrap() > 0.0, "{w}");
     let card = json!({"methods": ["leapfrog"], "scenes": [
         {"system": "cvt_pendulum", "preset": "oscillating", "t_end": 60, "integrals": ["latitude"]},
         {"system": "cvt_pendulum", "preset": "rotating", "t_end": 60, "integrals": ["latitude"]},
     ]});
-    let (status, c) = post(&server, "/scorecard", &card).await;
+    let (status, c) = server.post_json("/scorecard", &card).await;
     assert_eq!(status, 200, "{c}");
     assert_eq!(latitude(&health(&server).await), json!({"hits": 3, "misses": 2, "entries": 2}));
 }
