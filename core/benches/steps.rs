@@ -47,9 +47,7 @@ fn bench_system<S: System<N, R>, const N: usize, const R: usize>(c: &mut Criteri
         group.bench_function(BenchmarkId::from_parameter(label), |b| {
             b.iter(|| {
                 let mut st = start;
-                for _ in 0..STEPS {
-                    m.step(&sys, &mut st, black_box(p.step)).expect("step");
-                }
+                m.steps(&sys, &mut st, black_box(p.step), STEPS).expect("steps");
                 black_box(st)
             })
         });

@@ -74,6 +74,13 @@ macro_rules! methods {
             ) -> Result<(), StepFailure> {
                 match self { $(Method::$variant(m) => m.step(sys, state, h)),* }
             }
+            /// `n` steps with one dispatch, as a run takes them but without integrals: what
+            /// the ns/step benchmarks time.
+            pub fn steps<S: System<N, R>, const N: usize, const R: usize>(
+                &self, sys: &S, state: &mut State<N, R>, h: f64, n: u64,
+            ) -> Result<(), StepFailure> {
+                match self { $(Method::$variant(m) => (0..n).try_for_each(|_| m.step(sys, state, h))),* }
+            }
             /// Runs the method on a problem.
             pub fn run<S: System<N, R>, const N: usize, const R: usize>(
                 &self, problem: &Problem<'_, S, N, R>, cfg: &RunConfig, observer: &mut dyn Observer,

@@ -1,6 +1,6 @@
 //! [`State`]: what a one-step method carries from step to step.
 
-use crate::{Vector, system::System};
+use crate::{Matrix, Vector, system::System};
 
 /// Position, velocity and multiplier; every method carries `λ` (leap-frog needs it, the
 /// implicit methods start Newton from it).
@@ -21,6 +21,26 @@ pub struct State<const N: usize, const R: usize> {
     pub q_compensation: Vector<N>,
     /// What the last additions to `q̇` lost to rounding.
     pub v_compensation: Vector<N>,
+    /// `∇V` and `A` where the last step ended, if it computed them (first same as last).
+    pub(crate) at_end: AtEnd<N, R>,
+}
+
+/// `∇V(q)` and `A(q)` at the configuration a step ended on, so that the next step, which
+/// starts there, does not evaluate them again (leap-frog's force, DLA^α's `∇V(q₀)`): one
+/// sin/cos less per step on the trigonometric systems. Keyed by `q` itself, so a state
+/// moved from outside (a test, a restart) never reuses a stale value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct AtEnd<const N: usize, const R: usize> {
+    q: Vector<N>,
+    gradient: Vector<N>,
+    constraint: Matrix<R, N>,
+}
+
+impl<const N: usize, const R: usize> AtEnd<N, R> {
+    /// Knows nothing (NaN never equals a configuration).
+    fn empty() -> Self {
+        Self { q: Vector::repeat(f64::NAN), gradient: Vector::zeros(), constraint: Matrix::zeros() }
+    }
 }
 
 impl<const N: usize, const R: usize> State<N, R> {
@@ -38,19 +58,60 @@ impl<const N: usize, const R: usize> State<N, R> {
             lambda,
             q_compensation: Vector::zeros(),
             v_compensation: Vector::zeros(),
+            at_end: AtEnd::empty(),
         })
+    }
+
+    /// `∇V(q)` and `A(q)` at the current `q`: remembered from the step that ended here, or
+    /// evaluated.
+    #[inline]
+    pub(crate) fn gradient_and_constraint<S: System<N, R>>(
+        &self,
+        sys: &S,
+    ) -> (Vector<N>, Matrix<R, N>) {
+        if self.at_end.q == self.q {
+            (self.at_end.gradient, self.at_end.constraint)
+        } else {
+            (sys.gradient(&self.q), sys.constraint(self.q[N - 1]))
+        }
+    }
+
+    /// `∇V(q)` at the current `q`, remembered or evaluated.
+    #[inline]
+    pub(crate) fn gradient<S: System<N, R>>(&self, sys: &S) -> Vector<N> {
+        if self.at_end.q == self.q { self.at_end.gradient } else { sys.gradient(&self.q) }
+    }
+
+    /// Remembers `∇V` and `A` at the current `q` (call after the step has moved `q`).
+    #[inline]
+    pub(crate) fn remember_at_end(&mut self, gradient: Vector<N>, constraint: Matrix<R, N>) {
+        self.at_end = AtEnd { q: self.q, gradient, constraint };
     }
 
     /// `q += dq` with compensated summation.
     #[inline]
     pub fn advance_q(&mut self, dq: Vector<N>) {
-        compensated_add(&mut self.q, &mut self.q_compensation, dq);
+        compensated_add(&mut self.q, &mut self.q_compensation, dq, nothing());
     }
 
     /// `q̇ += dv` with compensated summation.
     #[inline]
     pub fn advance_v(&mut self, dv: Vector<N>) {
-        compensated_add(&mut self.v, &mut self.v_compensation, dv);
+        compensated_add(&mut self.v, &mut self.v_compensation, dv, nothing());
+    }
+
+    /// `q += late + early` with compensated summation, where `early` is known before the
+    /// step's chain of dependencies reaches `late`: it is folded into the compensation off
+    /// that chain, so that compensating costs the chain one addition, not three.
+    #[inline]
+    pub fn advance_q_parts(&mut self, late: Vector<N>, early: Vector<N>) {
+        compensated_add(&mut self.q, &mut self.q_compensation, late, early);
+    }
+
+    /// `q̇ += late + early`, as [`State::advance_q_parts`].
+    #[inline]
+    pub fn advance_v_parts(&mut self, late: Vector<N>, early: Vector<N>) {
+        compensated_add(&mut self.v, &mut self.v_compensation, late, early);
     }
 
     /// Both, for a step that computed its increments first (explicit methods: the increment
@@ -78,13 +139,84 @@ impl<const N: usize, const R: usize> State<N, R> {
     }
 }
 
-/// Kahan's step: `x += d` keeping in `e` what the addition rounded away.
+/// An `early` part of nothing: `−0.0 + e` is `e` exactly (for `e = ±0.0` too), so the
+/// compiler drops the addition.
 #[inline]
-fn compensated_add<const N: usize>(x: &mut Vector<N>, e: &mut Vector<N>, d: Vector<N>) {
+fn nothing<const N: usize>() -> Vector<N> {
+    Vector::repeat(-0.0)
+}
+
+/// Kahan's step: `x += late + early` keeping in `e` what the addition rounded away.
+#[inline]
+fn compensated_add<const N: usize>(
+    x: &mut Vector<N>,
+    e: &mut Vector<N>,
+    late: Vector<N>,
+    early: Vector<N>,
+) {
     for i in 0..N {
-        let d = d[i] + e[i];
+        let d = late[i] + (early[i] + e[i]);
         let sum = x[i] + d;
         e[i] = (x[i] - sum) + d;
         x[i] = sum;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::method::Integrator;
+    use crate::methods::{Dla, Leapfrog};
+    use crate::systems::{CvtPendulum, MobileRobot};
+
+    /// Steps with the remembered `∇V`, `A` against steps that evaluate them afresh.
+    fn remembered_vs_fresh<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
+        sys: &S,
+        m: &M,
+        h: f64,
+    ) -> f64 {
+        let p = &S::info().presets[0];
+        let (q, v) = (Vector::from_column_slice(p.q), Vector::from_column_slice(p.v));
+        let mut kept = State::with_continuous_multiplier(sys, q, v).unwrap();
+        let mut fresh = kept;
+        let mut used = 0;
+        let mut gap: f64 = 0.0;
+        for _ in 0..2000 {
+            used += usize::from(kept.at_end.q == kept.q);
+            m.step(sys, &mut kept, h).unwrap();
+            fresh.at_end = AtEnd::empty();
+            m.step(sys, &mut fresh, h).unwrap();
+            gap = gap.max((kept.q - fresh.q).amax()).max((kept.v - fresh.v).amax());
+        }
+        assert!(used >= 1999, "the remembered values were used in {used} of 2000 steps");
+        gap
+    }
+
+    #[test]
+    fn remembered_force_gives_the_same_steps() {
+        let pendulum = CvtPendulum { epsilon: 0.5 };
+        // Leap-frog remembers exactly what it would evaluate: bitwise the same steps.
+        assert_eq!(remembered_vs_fresh(&pendulum, &Leapfrog, 0.1), 0.0);
+        assert_eq!(remembered_vs_fresh(&MobileRobot, &Leapfrog, 0.05), 0.0);
+        // DLA^α's fast path remembers V_d'(ζ₁) one Taylor step from its last iterate.
+        let dla = Dla { alpha: 0.4, ..Dla::default() };
+        assert!(remembered_vs_fresh(&pendulum, &dla, 0.1) < 1e-12);
+        assert!(remembered_vs_fresh(&MobileRobot, &Dla::default(), 0.05) < 1e-12);
+    }
+
+    #[test]
+    fn a_state_moved_from_outside_forgets() {
+        let sys = CvtPendulum { epsilon: 0.5 };
+        let mut st = State::with_continuous_multiplier(
+            &sys,
+            Vector::<3>::new(1.0, 1.0, 0.0),
+            Vector::<3>::new(0.0, 0.0, 1.0),
+        )
+        .unwrap();
+        Leapfrog.step(&sys, &mut st, 0.1).unwrap();
+        assert_eq!(st.gradient(&sys), sys.gradient(&st.q));
+        st.q[2] += 0.25;
+        assert_eq!(st.gradient(&sys), sys.gradient(&st.q));
+        assert_eq!(st.gradient_and_constraint(&sys).1, sys.constraint(st.q[2]));
     }
 }

@@ -74,7 +74,7 @@ impl Integrator for Dla {
         let a = self.alpha;
         let q_a = st.q + (1.0 - a) * h * st.v;
         let a_qa = sys.constraint(q_a[N - 1]);
-        let g0 = sys.gradient(&st.q);
+        let g0 = st.gradient(sys);
         let v0 = st.v;
         if self.fast_path && S::QUADRATIC_PASSENGER {
             return self.step_coupled(sys, st, h, q_a, &a_qa, &g0);
@@ -125,20 +125,23 @@ impl Dla {
         let rhs = st.v[N - 1] - a * h * g0[N - 1];
         let mut w = rhs - b * h * g0[N - 1];
         // A and A' at the last iterate come with its V_d', V_d'' (one sin/cos), so that A(ζ₁)
-        // at the solution is one Taylor step away when the last increment is tiny.
-        let mut last = (f64::NAN, *a_qa, *a_qa);
+        // and V_d'(ζ₁) at the solution are one Taylor step away when the last increment is
+        // tiny; V_d'(ζ₁) is the next step's ∇V(q₀).
+        let mut last = (f64::NAN, *a_qa, *a_qa, 0.0, 0.0);
         solve_scalar(&self.newton, &mut w, |w| {
             let z1 = z_a + a * h * w;
-            last = (z1, sys.constraint(z1), sys.constraint_d(z1));
-            (
-                w - rhs + b * h * sys.driver_potential_d1(z1),
-                1.0 + a * b * h * h * sys.driver_potential_d2(z1),
-            )
+            let (d1, d2) = (sys.driver_potential_d1(z1), sys.driver_potential_d2(z1));
+            last = (z1, sys.constraint(z1), sys.constraint_d(z1), d1, d2);
+            (w - rhs + b * h * d1, 1.0 + a * b * h * h * d2)
         })?;
         let z1 = z_a + a * h * w;
         let dz = z1 - last.0;
-        // The neglected term is |A''| dz²/2 < 10⁻¹⁵.
-        let a1 = if dz.abs() <= 1e-8 { last.1 + last.2 * dz } else { sys.constraint(z1) };
+        // The neglected terms are |A''| dz²/2 and |V_d'''| dz²/2 < 10⁻¹⁵.
+        let (a1, d1) = if dz.abs() <= 1e-8 {
+            (last.1 + last.2 * dz, last.3 + last.4 * dz)
+        } else {
+            (sys.constraint(z1), sys.driver_potential_d1(z1))
+        };
         // Passenger, with ∇U(q₁) = ∇U(q_a) + αh K q̇₁ exact for quadratic U:
         // (I + α(1−α)h²K) q̇₁ − h A_aᵀλ = q̇₀ − αh∇V(q₀) − (1−α)h∇U(q_a), A(ζ₁) q̇₁ = 0.
         // The driver row of K and the driver column of A vanish, so that row reads q̇₁_ζ = w.
@@ -152,6 +155,9 @@ impl Dla {
         let v1 = m_rhs + h * (m_at * lambda);
         st.advance_to((1.0 - a) * h * st.v + a * h * v1, v1);
         st.lambda = lambda;
+        let mut g1 = sys.passenger_gradient(&st.q);
+        g1[N - 1] = d1;
+        st.remember_at_end(g1, a1);
         Ok(())
     }
 }

@@ -6,7 +6,7 @@
 use crate::linalg;
 use crate::method::{Integrator, MethodInfo};
 use crate::system::System;
-use crate::{InputError, State, StepFailure};
+use crate::{InputError, State, StepFailure, Vector};
 
 /// Nonholonomic leap-frog (no parameters).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -38,21 +38,32 @@ impl Integrator for Leapfrog {
         st: &mut State<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
-        let a0 = sys.constraint(st.q[N - 1]);
-        let dv_half = 0.5 * h * (a0.transpose() * st.lambda - sys.gradient(&st.q));
+        let (g0, a0) = st.gradient_and_constraint(sys);
+        let dv_half = 0.5 * h * (a0.transpose() * st.lambda - g0);
         let v_half = st.v + dv_half;
-        st.advance_q(h * v_half);
+        // q₁ = q₀ + h q̇₀ + h Δq̇_½: q̇₀ enters last, as it is what the previous step just made.
+        st.advance_q_parts(h * st.v, h * dv_half);
         let q1 = st.q;
         let a1 = sys.constraint(q1[N - 1]);
         let g1 = sys.gradient(&q1);
         let w = v_half - 0.5 * h * g1;
-        // v₁ = w + (h/2) A₁ᵀ λ₁ with A₁ v₁ = 0.
-        let lambda1 = linalg::solve(&(a1 * a1.transpose()), &(a1 * w))
-            .ok_or(StepFailure::Singular)?
-            * (-2.0 / h);
-        // q̇₁ = w + (h/2) A₁ᵀλ₁, as an increment.
-        st.advance_v(dv_half + 0.5 * h * (a1.transpose() * lambda1 - g1));
+        // v₁ = w + (h/2) A₁ᵀ λ₁ with A₁ v₁ = 0. A singular A₁A₁ᵀ gives NaN here and is told
+        // apart below: checking it only once the whole update is known keeps sin ζ₁ (in A₁)
+        // and cos ζ₁ (in ∇V) in one block, where the compiler makes them a single sincos.
+        let solved = linalg::solve(&(a1 * a1.transpose()), &(a1 * w));
+        let lambda1 = solved.unwrap_or(Vector::<R>::repeat(f64::NAN)) * (-2.0 / h);
+        // q̇₁ = w + (h/2) A₁ᵀλ₁ = q̇₀ + Δq̇_½ + (h/2)(A₁ᵀλ₁ − ∇V(q₁)), as increments.
+        let kick = 0.5 * h * (a1.transpose() * lambda1 - g1);
+        if !(kick.sum() + lambda1.sum()).is_finite() {
+            return Err(if solved.is_none() {
+                StepFailure::Singular
+            } else {
+                StepFailure::NonFinite
+            });
+        }
+        st.advance_v_parts(kick, dv_half);
         st.lambda = lambda1;
+        st.remember_at_end(g1, a1);
         Ok(())
     }
 }
