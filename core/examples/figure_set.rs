@@ -29,6 +29,9 @@ impl Observer for Sink {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let t = std::time::Instant::now();
     let (mut steps, mut buckets) = (0, 0);
+    // Where the time goes: preparing the scenes (latitude axes), then each method.
+    let mut prepare = std::time::Duration::ZERO;
+    let mut per_method = vec![std::time::Duration::ZERO; Method::paper_five().len()];
     for _ in 0..REPS {
         for (system, preset) in SCENES {
             let req = SceneRequest {
@@ -36,10 +39,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 preset: Some(preset.into()),
                 ..Default::default()
             };
+            let t_prepare = std::time::Instant::now();
             let scene = Scene::resolve(&req)?.prepare(None)?;
-            for m in Method::paper_five() {
+            prepare += t_prepare.elapsed();
+            for (i, m) in Method::paper_five().iter().enumerate() {
                 let mut sink = Sink(0);
-                steps += scene.run(&m, &RunConfig::default(), &mut sink).steps;
+                let t_run = std::time::Instant::now();
+                steps += scene.run(m, &RunConfig::default(), &mut sink).steps;
+                per_method[i] += t_run.elapsed();
                 buckets += sink.0;
             }
         }
@@ -50,5 +57,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         steps / REPS as u64,
         buckets / REPS as u64
     );
+    print!("  prepare {:.1?}", prepare / REPS);
+    for (m, d) in Method::paper_five().iter().zip(&per_method) {
+        print!(", {} {:.1?}", m.label(), *d / REPS);
+    }
+    println!();
     Ok(())
 }

@@ -40,16 +40,34 @@ pub struct Section {
 }
 
 impl Section {
+    /// Where `ζ` is along the section's sheets: sheet `m` spans `[m, m + 1)` (for a
+    /// non-periodic driver, `[0, ∞)` is sheet 0 and `(−∞, 0)` sheet −1).
+    #[inline]
+    fn position(&self, zeta: f64) -> f64 {
+        let s = self.direction * (zeta - self.zeta0);
+        if self.periodic { s / std::f64::consts::TAU } else { s }
+    }
+
     /// Which sheet of the section `ζ` has passed: the index grows by one at each crossing.
     #[inline]
     pub fn index(&self, zeta: f64) -> i64 {
-        let s = self.direction * (zeta - self.zeta0);
+        let p = self.position(zeta);
         if self.periodic {
-            (s / std::f64::consts::TAU).floor() as i64
-        } else if s < 0.0 {
+            p.floor() as i64
+        } else if p < 0.0 {
             -1
         } else {
             0
+        }
+    }
+
+    /// The positions `[lo, hi)` of sheet `index`.
+    #[inline]
+    fn sheet(&self, index: i64) -> (f64, f64) {
+        match (self.periodic, index) {
+            (true, m) => (m as f64, (m + 1) as f64),
+            (false, 0) => (0.0, f64::INFINITY),
+            (false, _) => (f64::NEG_INFINITY, 0.0),
         }
     }
 
@@ -216,6 +234,8 @@ impl LatitudeAxis {
 pub struct LatitudeTracker<const N: usize> {
     axis: LatitudeAxis,
     index: i64,
+    /// The sheet `index` spans, so that a step that stays on it (nearly all) needs no floor.
+    sheet: (f64, f64),
     prev_t: f64,
     prev_q: Vector<N>,
     prev_v: Vector<N>,
@@ -224,7 +244,9 @@ pub struct LatitudeTracker<const N: usize> {
 impl<const N: usize> LatitudeTracker<N> {
     /// Starts at the initial state.
     pub fn new(axis: LatitudeAxis, q: &Vector<N>, v: &Vector<N>) -> Self {
-        Self { axis, index: axis.section.index(q[N - 1]), prev_t: 0.0, prev_q: *q, prev_v: *v }
+        let index = axis.section.index(q[N - 1]);
+        let sheet = axis.section.sheet(index);
+        Self { axis, index, sheet, prev_t: 0.0, prev_q: *q, prev_v: *v }
     }
 
     /// Takes the state after a step; returns `(t, |ℓ − ℓ(0)|)` at a crossing inside the step.
@@ -237,7 +259,31 @@ impl<const N: usize> LatitudeTracker<N> {
         v: &Vector<N>,
     ) -> Option<(f64, f64)> {
         let zeta = q[N - 1];
+        let p = self.axis.section.position(zeta);
+        let out = if self.sheet.0 <= p && p < self.sheet.1 {
+            None
+        } else {
+            self.changed_sheet(sys, t, q, v)
+        };
+        self.prev_t = t;
+        self.prev_q = *q;
+        self.prev_v = *v;
+        out
+    }
+
+    /// The rare step that leaves its sheet: the new sheet, and the latitude where the step
+    /// crossed the section forwards. Kept out of line so that `observe` inlines.
+    #[inline(never)]
+    fn changed_sheet<S: System<N, R>, const R: usize>(
+        &mut self,
+        sys: &S,
+        t: f64,
+        q: &Vector<N>,
+        v: &Vector<N>,
+    ) -> Option<(f64, f64)> {
+        let zeta = q[N - 1];
         let index = self.axis.section.index(zeta);
+        self.sheet = self.axis.section.sheet(index);
         let mut out = None;
         if index > self.index {
             let (prev_zeta, target) = (self.prev_q[N - 1], self.axis.section.zeta(index));
@@ -251,9 +297,6 @@ impl<const N: usize> LatitudeTracker<N> {
             ));
         }
         self.index = index;
-        self.prev_t = t;
-        self.prev_q = *q;
-        self.prev_v = *v;
         out
     }
 }

@@ -93,6 +93,8 @@ pub const DIVERGED: f64 = 1e100;
 
 struct Series {
     integral: Integral,
+    /// Where its value is in [`values`]' output.
+    slot: usize,
     initial: f64,
     buckets: Bucketer,
 }
@@ -106,18 +108,14 @@ fn values<S: System<N, R>, const N: usize, const R: usize>(
     energies: bool,
     constraint: bool,
 ) -> [f64; 4] {
-    // One arm per combination, so that V_d(ζ) and A(ζ) share one sin/cos evaluation when
-    // both are wanted (in separate branches the compiler cannot merge them).
-    let (e, h, c) = match (energies, constraint) {
-        (true, true) => (
-            sys.passenger_energy(&st.q, &st.v),
-            sys.driver_energy(&st.q, &st.v),
-            sys.constraint_residual(&st.q, &st.v),
-        ),
-        (true, false) => (sys.passenger_energy(&st.q, &st.v), sys.driver_energy(&st.q, &st.v), 0.0),
-        (false, true) => (0.0, 0.0, sys.constraint_residual(&st.q, &st.v)),
-        (false, false) => (0.0, 0.0, 0.0),
-    };
+    if !energies && !constraint {
+        return [0.0; 4];
+    }
+    // V_d(ζ) and A(ζ) together (one sin/cos), or as the step remembered them.
+    let (v_d, a) = st.driver_potential_and_constraint(sys);
+    let zeta_dot = st.v[N - 1];
+    let (e, h) = (sys.passenger_energy(&st.q, &st.v), 0.5 * zeta_dot * zeta_dot + v_d);
+    let c = if constraint { (a * st.v).norm() } else { 0.0 };
     [e + h, e, h, c]
 }
 
@@ -140,18 +138,32 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
 ) -> RunOutcome {
     let (sys, h) = (problem.sys, problem.step);
     let mut st = problem.start;
-    let mut series: [Option<Series>; 4] = [None, None, None, None];
+    // A fixed array and a length rather than a Vec or Options: the per-step loop over it
+    // is then a short counted loop with no branches on absent series.
+    let mut series: [Series; 4] = std::array::from_fn(|_| Series {
+        integral: Integral::Energy,
+        slot: 0,
+        initial: 0.0,
+        buckets: Bucketer::new(0, 1),
+    });
     let step_integrals = problem.integrals.iter().filter(|&&i| i != Integral::Latitude);
     let energies = problem.integrals.iter().any(|&i| index_of(i) < 3);
     let constraint = problem.integrals.contains(&Integral::Constraint);
     let v0 = values(sys, &st, energies, constraint);
+    let mut len = 0;
     for (slot, &integral) in series.iter_mut().zip(step_integrals) {
         // The constraint residual is reported as is: its ideal value is 0, not its start.
         let initial = if integral == Integral::Constraint { 0.0 } else { v0[index_of(integral)] };
         observer.initial(integral, initial);
-        *slot =
-            Some(Series { integral, initial, buckets: Bucketer::new(problem.steps, cfg.points) });
+        *slot = Series {
+            integral,
+            slot: index_of(integral),
+            initial,
+            buckets: Bucketer::new(problem.steps, cfg.points),
+        };
+        len += 1;
     }
+    let series = &mut series[..len];
     let mut latitude =
         problem.latitude.filter(|_| problem.integrals.contains(&Integral::Latitude)).map(|axis| {
             observer.initial(Integral::Latitude, axis.latitude0);
@@ -179,8 +191,8 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
         }
         let t = k as f64 * h;
         let now = values(sys, &st, energies, constraint);
-        for s in series.iter_mut().flatten() {
-            let e = (now[index_of(s.integral)] - s.initial).abs();
+        for s in series.iter_mut() {
+            let e = (now[s.slot] - s.initial).abs();
             if let Some(b) = s.buckets.push(t, e) {
                 observer.points(s.integral, b);
             }
@@ -195,7 +207,7 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
             return RunOutcome { steps: k, error: Some(RunError::Cancelled { step: k, t }) };
         }
     }
-    for s in series.iter_mut().flatten() {
+    for s in series.iter_mut() {
         if let Some(b) = s.buckets.finish() {
             observer.points(s.integral, b);
         }

@@ -25,21 +25,28 @@ pub struct State<const N: usize, const R: usize> {
     pub(crate) at_end: AtEnd<N, R>,
 }
 
-/// `∇V(q)` and `A(q)` at the configuration a step ended on, so that the next step, which
-/// starts there, does not evaluate them again (leap-frog's force, DLA^α's `∇V(q₀)`): one
-/// sin/cos less per step on the trigonometric systems. Keyed by `q` itself, so a state
+/// `∇V(q)`, `A(q)` and `V_d(ζ)` at the configuration a step ended on, so that the next
+/// step, which starts there, does not evaluate them again (leap-frog's force, DLA^α's
+/// `∇V(q₀)`), nor do the integrals at that state (`h`, `|A q̇|`): one sin/cos per step
+/// instead of two or three on the trigonometric systems. Keyed by `q` itself, so a state
 /// moved from outside (a test, a restart) never reuses a stale value.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct AtEnd<const N: usize, const R: usize> {
     q: Vector<N>,
     gradient: Vector<N>,
     constraint: Matrix<R, N>,
+    driver_potential: f64,
 }
 
 impl<const N: usize, const R: usize> AtEnd<N, R> {
     /// Knows nothing (NaN never equals a configuration).
     fn empty() -> Self {
-        Self { q: Vector::repeat(f64::NAN), gradient: Vector::zeros(), constraint: Matrix::zeros() }
+        Self {
+            q: Vector::repeat(f64::NAN),
+            gradient: Vector::zeros(),
+            constraint: Matrix::zeros(),
+            driver_potential: 0.0,
+        }
     }
 }
 
@@ -82,10 +89,31 @@ impl<const N: usize, const R: usize> State<N, R> {
         if self.at_end.q == self.q { self.at_end.gradient } else { sys.gradient(&self.q) }
     }
 
-    /// Remembers `∇V` and `A` at the current `q` (call after the step has moved `q`).
+    /// `V_d(ζ)` and `A(ζ)` at the current `q`, remembered or evaluated (together, so that
+    /// they share one sin/cos).
     #[inline]
-    pub(crate) fn remember_at_end(&mut self, gradient: Vector<N>, constraint: Matrix<R, N>) {
-        self.at_end = AtEnd { q: self.q, gradient, constraint };
+    pub(crate) fn driver_potential_and_constraint<S: System<N, R>>(
+        &self,
+        sys: &S,
+    ) -> (f64, Matrix<R, N>) {
+        if self.at_end.q == self.q {
+            (self.at_end.driver_potential, self.at_end.constraint)
+        } else {
+            let zeta = self.q[N - 1];
+            (sys.driver_potential(zeta), sys.constraint(zeta))
+        }
+    }
+
+    /// Remembers `∇V`, `A` and `V_d` at the current `q` (call after the step has moved `q`;
+    /// they must be its values there, to round-off).
+    #[inline]
+    pub(crate) fn remember_at_end(
+        &mut self,
+        gradient: Vector<N>,
+        constraint: Matrix<R, N>,
+        driver_potential: f64,
+    ) {
+        self.at_end = AtEnd { q: self.q, gradient, constraint, driver_potential };
     }
 
     /// `q += dq` with compensated summation.

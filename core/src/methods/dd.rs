@@ -71,7 +71,7 @@ impl Integrator for Dd {
         st: &mut State<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
-        let v_q0 = sys.potential(&st.q);
+        let v_q0 = sys.passenger_potential(&st.q) + st.driver_potential_and_constraint(sys).0;
         let q0 = st.q;
         discrete_derivative_step(sys, st, h, &self.newton, |dq| {
             discrete_gradient(sys, &q0, v_q0, dq, h)
@@ -91,8 +91,8 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
     gradient: impl Fn(&Vector<N>) -> (Vector<N>, Matrix<N, N>),
 ) -> Result<(), StepFailure> {
     let (q0, v0) = (st.q, st.v);
-    let a0 = sys.constraint(q0[N - 1]);
-    let mut v1 = v0 + h * (a0.transpose() * st.lambda - sys.gradient(&q0));
+    let (g0, a0) = st.gradient_and_constraint(sys);
+    let mut v1 = v0 + h * (a0.transpose() * st.lambda - g0);
     let mut lambda = st.lambda;
     solve(newton, &mut v1, &mut lambda, |v1, lambda| {
         let s = v0 + v1;
@@ -122,5 +122,8 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
     })?;
     st.advance_to((v0 + v1) * (0.5 * h), v1);
     st.lambda = lambda;
+    // What the next step starts from and the integrals at q₁ need, from one sin/cos.
+    let zeta = st.q[N - 1];
+    st.remember_at_end(sys.gradient(&st.q), sys.constraint(zeta), sys.driver_potential(zeta));
     Ok(())
 }

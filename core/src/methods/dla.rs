@@ -124,24 +124,16 @@ impl Dla {
         // Driver alone: F(w) = w − ζ̇₀ + αh V_d'(ζ₀) + (1−α)h V_d'(ζ_a + αh w) = 0.
         let rhs = st.v[N - 1] - a * h * g0[N - 1];
         let mut w = rhs - b * h * g0[N - 1];
-        // A and A' at the last iterate come with its V_d', V_d'' (one sin/cos), so that A(ζ₁)
-        // and V_d'(ζ₁) at the solution are one Taylor step away when the last increment is
-        // tiny; V_d'(ζ₁) is the next step's ∇V(q₀).
-        let mut last = (f64::NAN, *a_qa, *a_qa, 0.0, 0.0);
+        // A, A', V_d, V_d', V_d'' at the last iterate share one sin/cos; A(ζ₁) at the solution
+        // is then one Taylor step away when the last increment is tiny, and so are the
+        // values at the stored ζ₁ that the next step and the integrals use.
+        let mut last = Taylor::at(sys, f64::NAN);
         solve_scalar(&self.newton, &mut w, |w| {
             let z1 = z_a + a * h * w;
-            let (d1, d2) = (sys.driver_potential_d1(z1), sys.driver_potential_d2(z1));
-            last = (z1, sys.constraint(z1), sys.constraint_d(z1), d1, d2);
-            (w - rhs + b * h * d1, 1.0 + a * b * h * h * d2)
+            last = Taylor::at(sys, z1);
+            (w - rhs + b * h * last.d1, 1.0 + a * b * h * h * last.d2)
         })?;
-        let z1 = z_a + a * h * w;
-        let dz = z1 - last.0;
-        // The neglected terms are |A''| dz²/2 and |V_d'''| dz²/2 < 10⁻¹⁵.
-        let (a1, d1) = if dz.abs() <= 1e-8 {
-            (last.1 + last.2 * dz, last.3 + last.4 * dz)
-        } else {
-            (sys.constraint(z1), sys.driver_potential_d1(z1))
-        };
+        let a1 = last.constraint(sys, z_a + a * h * w);
         // Passenger, with ∇U(q₁) = ∇U(q_a) + αh K q̇₁ exact for quadratic U:
         // (I + α(1−α)h²K) q̇₁ − h A_aᵀλ = q̇₀ − αh∇V(q₀) − (1−α)h∇U(q_a), A(ζ₁) q̇₁ = 0.
         // The driver row of K and the driver column of A vanish, so that row reads q̇₁_ζ = w.
@@ -155,9 +147,56 @@ impl Dla {
         let v1 = m_rhs + h * (m_at * lambda);
         st.advance_to((1.0 - a) * h * st.v + a * h * v1, v1);
         st.lambda = lambda;
+        let zeta = st.q[N - 1];
         let mut g1 = sys.passenger_gradient(&st.q);
-        g1[N - 1] = d1;
-        st.remember_at_end(g1, a1);
+        g1[N - 1] = last.d1(sys, zeta);
+        st.remember_at_end(g1, last.constraint(sys, zeta), last.potential(sys, zeta));
         Ok(())
+    }
+}
+
+/// The driver's functions at a point ζ*, and their first-order Taylor expansions to a ζ
+/// within 10⁻⁸ of it, where the neglected terms (`|A''| dz²/2`, `|V_d'''| dz²/2`,
+/// `|V_d'''| dz³/6`) are below 10⁻¹⁵; farther away they are evaluated.
+struct Taylor<const N: usize, const R: usize> {
+    zeta: f64,
+    a: Matrix<R, N>,
+    da: Matrix<R, N>,
+    v: f64,
+    d1: f64,
+    d2: f64,
+}
+
+impl<const N: usize, const R: usize> Taylor<N, R> {
+    #[inline]
+    fn at<S: System<N, R>>(sys: &S, zeta: f64) -> Self {
+        Self {
+            zeta,
+            a: sys.constraint(zeta),
+            da: sys.constraint_d(zeta),
+            v: sys.driver_potential(zeta),
+            d1: sys.driver_potential_d1(zeta),
+            d2: sys.driver_potential_d2(zeta),
+        }
+    }
+    #[inline]
+    fn near(&self, zeta: f64) -> Option<f64> {
+        let dz = zeta - self.zeta;
+        (dz.abs() <= 1e-8).then_some(dz)
+    }
+    #[inline]
+    fn constraint<S: System<N, R>>(&self, sys: &S, zeta: f64) -> Matrix<R, N> {
+        self.near(zeta).map_or_else(|| sys.constraint(zeta), |dz| self.a + self.da * dz)
+    }
+    #[inline]
+    fn d1<S: System<N, R>>(&self, sys: &S, zeta: f64) -> f64 {
+        self.near(zeta).map_or_else(|| sys.driver_potential_d1(zeta), |dz| self.d1 + self.d2 * dz)
+    }
+    #[inline]
+    fn potential<S: System<N, R>>(&self, sys: &S, zeta: f64) -> f64 {
+        self.near(zeta).map_or_else(
+            || sys.driver_potential(zeta),
+            |dz| self.v + dz * (self.d1 + 0.5 * self.d2 * dz),
+        )
     }
 }

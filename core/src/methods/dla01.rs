@@ -47,7 +47,8 @@ impl Integrator for Dla01 {
     fn label(&self) -> String {
         "DLA^{0,1}".into()
     }
-    #[inline]
+    // Always inlined: one call site per run loop, where the integrals then share its work.
+    #[inline(always)]
     fn step<S: System<N, R>, const N: usize, const R: usize>(
         &self,
         sys: &S,

@@ -31,7 +31,8 @@ impl Integrator for Leapfrog {
     fn label(&self) -> String {
         "LF".into()
     }
-    #[inline]
+    // Always inlined, so that in a run the integrals at q₁ share the step's sin/cos of ζ₁.
+    #[inline(always)]
     fn step<S: System<N, R>, const N: usize, const R: usize>(
         &self,
         sys: &S,
@@ -63,7 +64,7 @@ impl Integrator for Leapfrog {
         }
         st.advance_v_parts(kick, dv_half);
         st.lambda = lambda1;
-        st.remember_at_end(g1, a1);
+        st.remember_at_end(g1, a1, sys.driver_potential(q1[N - 1]));
         Ok(())
     }
 }
