@@ -1,5 +1,7 @@
 //! [`Collector`]: the observer of a JSON request's run: keeps every bucket, stops when the
-//! request is cancelled, and judges each series once the run has ended ([`Verdicts`]).
+//! request is cancelled, and once the run has ended turns each series into columns with its
+//! verdict. The buckets are kept once, in [`Verdicts`] (which needs them whole), and become
+//! [`SeriesView`] columns only at the end.
 
 use crate::{Cancel, SeriesView, Verdicts};
 use nhlab_core::{Bucket, Integral, Observer};
@@ -9,10 +11,9 @@ use std::ops::ControlFlow;
 /// Collects a run's series.
 #[derive(Debug)]
 pub struct Collector {
-    /// Series by integral (every integral of the plan, possibly empty); keyed by the
-    /// integral, not its id, so that a bucket costs no string allocation.
-    pub series: BTreeMap<Integral, SeriesView>,
-    /// The series kept whole for their verdicts.
+    /// The integrals of the plan, each of which gets a series (possibly empty).
+    integrals: Vec<Integral>,
+    /// The buckets and initial values, by integral.
     pub verdicts: Verdicts,
     cancel: Cancel,
 }
@@ -20,18 +21,20 @@ pub struct Collector {
 impl Collector {
     /// A collector for `integrals`, stopping when `cancel` is set.
     pub fn new(integrals: &[Integral], cancel: Cancel) -> Self {
-        let series = integrals.iter().map(|&i| (i, SeriesView::default())).collect();
-        Self { series, verdicts: Verdicts::default(), cancel }
+        Self { integrals: integrals.to_vec(), verdicts: Verdicts::default(), cancel }
     }
 
     /// The series by integral id, each with its verdict (null for an empty series).
     pub fn into_series(self) -> BTreeMap<String, SeriesView> {
-        let verdicts = self.verdicts;
-        self.series
-            .into_iter()
-            .map(|(i, mut s)| {
-                s.verdict = Some(verdicts.of(i));
-                (i.id().to_owned(), s)
+        self.integrals
+            .iter()
+            .map(|&i| {
+                let mut series = SeriesView::with_capacity(self.verdicts.buckets(i).len());
+                for &b in self.verdicts.buckets(i) {
+                    series.push(b);
+                }
+                series.verdict = Some(self.verdicts.of(i));
+                (i.id().to_owned(), series)
             })
             .collect()
     }
@@ -43,7 +46,6 @@ impl Observer for Collector {
     }
 
     fn points(&mut self, integral: Integral, bucket: Bucket) {
-        self.series.entry(integral).or_default().push(bucket);
         self.verdicts.push(integral, bucket);
     }
 

@@ -29,6 +29,16 @@ fn finite(x: f64) -> Option<f64> {
 }
 
 impl SeriesView {
+    /// An empty series with room for `n` buckets.
+    pub fn with_capacity(n: usize) -> Self {
+        Self {
+            t: Vec::with_capacity(n),
+            mean: Vec::with_capacity(n),
+            max: Vec::with_capacity(n),
+            verdict: None,
+        }
+    }
+
     /// Appends a bucket.
     pub fn push(&mut self, b: Bucket) {
         self.t.push(finite(b.t));

@@ -4,11 +4,11 @@
 //! the request is admitted ([`AppState::admit`]: a bounded number of simulations at once).
 
 use crate::plan::Delivery;
+use crate::runner::Finished;
 use crate::{
     AppError, AppState, Cancel, Collector, Plan, RunView, Runner, SceneView, SimulateRequest, Slot,
     Status,
 };
-use axum::Json;
 use axum::body::Bytes;
 use axum::extract::State;
 use axum::extract::rejection::BytesRejection;
@@ -76,7 +76,16 @@ pub async fn simulate(
     let slot = state.admit()?;
     match delivery {
         Delivery::Stream => Ok(crate::stream(&state, plan, slot)),
-        Delivery::Json => Ok(Json(run(&state, plan, slot).await?).into_response()),
+        Delivery::Json => {
+            let finished = run(&state, &plan, slot).await?;
+            // Building the columns, the verdicts and ~1 MB of JSON is CPU work: off the runtime.
+            let body = crate::runner::off_runtime(move || {
+                serde_json::to_vec(&respond(plan, finished)?)
+                    .map_err(|e| AppError::internal(format!("internal error: writing JSON: {e}")))
+            })
+            .await?;
+            Ok(([(header::CONTENT_TYPE, "application/json")], body).into_response())
+        }
     }
 }
 
@@ -88,18 +97,30 @@ fn wants_stream(headers: &HeaderMap) -> bool {
         .any(|v| v.contains("text/event-stream"))
 }
 
-/// Runs every method of `plan` in parallel and collects the series.
-async fn run(state: &AppState, plan: Plan, slot: Slot) -> Result<SimulateResponse, AppError> {
+/// Runs every method of `plan` in parallel and waits for them.
+async fn run(
+    state: &AppState,
+    plan: &Plan,
+    slot: Slot,
+) -> Result<Vec<Finished<Collector>>, AppError> {
     let cancel = Cancel::default();
     // If the client goes away, this future is dropped and the runs are stopped.
     let _on_drop = cancel.on_drop();
     let runner = Runner::new(state).with_slot(slot);
     let handles: Vec<_> = (0..plan.methods.len())
-        .map(|i| runner.spawn(&plan, i, Collector::new(&plan.prepared.integrals, cancel.clone())))
+        .map(|i| runner.spawn(plan, i, Collector::new(&plan.prepared.integrals, cancel.clone())))
         .collect();
-    let mut runs = Vec::with_capacity(handles.len());
+    let mut finished = Vec::with_capacity(handles.len());
     for (i, handle) in handles.into_iter().enumerate() {
-        let finished = handle.await.map_err(|e| AppError::internal(format!("run {i}: {e}")))?;
+        finished.push(handle.await.map_err(|e| AppError::internal(format!("run {i}: {e}")))?);
+    }
+    Ok(finished)
+}
+
+/// The answer: one run view per method, with its series as columns and their verdicts.
+fn respond(plan: Plan, finished: Vec<Finished<Collector>>) -> Result<SimulateResponse, AppError> {
+    let mut runs = Vec::with_capacity(finished.len());
+    for (i, finished) in finished.into_iter().enumerate() {
         let outcome = finished.outcome.map_err(|panic| {
             AppError::internal(format!(
                 "internal error: the simulation of run {i} panicked: {panic}"

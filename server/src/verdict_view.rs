@@ -74,6 +74,11 @@ impl Verdicts {
         Some(classify(buckets, scale).into())
     }
 
+    /// The buckets of one series (empty if it has none).
+    pub fn buckets(&self, integral: Integral) -> &[Bucket] {
+        self.buckets.get(&integral).map_or(&[], Vec::as_slice)
+    }
+
     /// Every series' verdict, by integral id.
     pub fn all(&self) -> BTreeMap<String, VerdictView> {
         self.buckets.keys().filter_map(|&i| Some((i.id().to_owned(), self.of(i)?))).collect()
