@@ -128,6 +128,13 @@ impl<const N: usize, const R: usize> State<N, R> {
         compensated_add(&mut self.v, &mut self.v_compensation, dv, nothing());
     }
 
+    /// Component `i` of `q` after [`State::advance_q`] with an increment whose component `i`
+    /// is `d` (the same compensated sum), without moving.
+    #[inline]
+    pub(crate) fn q_after(&self, i: usize, d: f64) -> f64 {
+        self.q[i] + (d + self.q_compensation[i])
+    }
+
     /// `q += late + early` with compensated summation, where `early` is known before the
     /// step's chain of dependencies reaches `late`: it is folded into the compensation off
     /// that chain, so that compensating costs the chain one addition, not three.
@@ -194,7 +201,7 @@ fn compensated_add<const N: usize>(
 mod tests {
     use super::*;
     use crate::method::Integrator;
-    use crate::methods::{Dla, Leapfrog};
+    use crate::methods::{Dla, Dla01, Leapfrog};
     use crate::systems::{CvtPendulum, MobileRobot};
 
     /// Steps with the remembered `∇V`, `A` against steps that evaluate them afresh.
@@ -226,6 +233,9 @@ mod tests {
         // Leap-frog remembers exactly what it would evaluate: bitwise the same steps.
         assert_eq!(remembered_vs_fresh(&pendulum, &Leapfrog, 0.1), 0.0);
         assert_eq!(remembered_vs_fresh(&MobileRobot, &Leapfrog, 0.05), 0.0);
+        // DLA^{0,1} only remembers (for the integrals), at the ζ₁ it predicted the state holds.
+        assert_eq!(remembered_vs_fresh(&pendulum, &Dla01::default(), 0.1), 0.0);
+        assert_eq!(remembered_vs_fresh(&MobileRobot, &Dla01::default(), 0.05), 0.0);
         // DLA^α's fast path remembers V_d'(ζ₁) one Taylor step from its last iterate.
         let dla = Dla { alpha: 0.4, ..Dla::default() };
         assert!(remembered_vs_fresh(&pendulum, &dla, 0.1) < 1e-12);

@@ -62,13 +62,23 @@ impl Integrator for Dla01 {
         if self.fast_path {
             // v₁ = w + h A_½ᵀ λ has the driver speed of w (A has no driver column), so ζ₁ is
             // known, and A(ζ₁) v₁ = 0 gives (h A₁ A_½ᵀ) λ = −A₁ w.
-            let a1 = sys.constraint(q_half[N - 1] + 0.5 * h * w[N - 1]);
+            // ζ₁ exactly as the state will hold it (λ does not move ζ), so that the constraint
+            // is imposed there and V_d, A at ζ₁ (one sin/cos) serve the integrals too.
+            let dz = h * st.v[N - 1] + (0.5 * h) * (h * -g_half[N - 1]);
+            let z1 = st.q_after(N - 1, dz);
+            let (a1, v_d1, d1) =
+                (sys.constraint(z1), sys.driver_potential(z1), sys.driver_potential_d1(z1));
             let lambda = linalg::solve(&(a1 * a_half.transpose()), &(a1 * w))
                 .ok_or(StepFailure::Singular)?
                 * (-1.0 / h);
             let dv = h * (a_half.transpose() * lambda - g_half);
             st.advance(h * st.v + (0.5 * h) * dv, dv);
             st.lambda = lambda;
+            if st.q[N - 1] == z1 {
+                let mut g1 = sys.passenger_gradient(&st.q);
+                g1[N - 1] = d1;
+                st.remember_at_end(g1, a1, v_d1);
+            }
             return Ok(());
         }
         let g = a_half.transpose() * (-h);
