@@ -22,19 +22,42 @@ pub struct Bucket {
 
 /// Streams samples into buckets.
 #[derive(Debug, Clone)]
-pub struct Bucketer {
+pub struct Bucketer(Lanes<1>);
+
+impl Bucketer {
+    /// Plans `min(points, total)` buckets (at least one) for `total` samples.
+    pub fn new(total: u64, points: usize) -> Self {
+        Self(Lanes::new(total, points))
+    }
+
+    /// Adds a sample; returns the bucket it completed, if any (never the last one).
+    #[inline]
+    pub fn push(&mut self, t: f64, error: f64) -> Option<Bucket> {
+        self.0.push(t, [error]).map(|[b]| b)
+    }
+
+    /// Releases the last bucket (with any samples beyond the plan), if it has samples.
+    pub fn finish(&mut self) -> Option<Bucket> {
+        self.0.finish().map(|[b]| b)
+    }
+}
+
+/// `K` series sampled at the same times, bucketed together: one schedule, `K` sums and
+/// maxima (a run's step integrals, which share every sample time).
+#[derive(Debug, Clone)]
+pub struct Lanes<const K: usize> {
     total: u64,
     buckets: u64,
     index: u64,
     seen: u64,
     end: u64,
     count: u64,
-    sum: f64,
-    max: f64,
+    sum: [f64; K],
+    max: [f64; K],
     t: f64,
 }
 
-impl Bucketer {
+impl<const K: usize> Lanes<K> {
     /// Plans `min(points, total)` buckets (at least one) for `total` samples.
     pub fn new(total: u64, points: usize) -> Self {
         let total = total.max(1);
@@ -46,21 +69,24 @@ impl Bucketer {
             seen: 0,
             end: total / buckets,
             count: 0,
-            sum: 0.0,
-            max: 0.0,
+            sum: [0.0; K],
+            max: [0.0; K],
             t: 0.0,
         }
     }
 
-    /// Adds a sample; returns the bucket it completed, if any (never the last one).
+    /// Adds one sample to every lane; returns the buckets it completed, if any (never the
+    /// last ones).
     #[inline]
-    pub fn push(&mut self, t: f64, error: f64) -> Option<Bucket> {
+    pub fn push(&mut self, t: f64, errors: [f64; K]) -> Option<[Bucket; K]> {
         self.seen += 1;
         self.count += 1;
-        self.sum += error;
-        // NaN-propagating max: a NaN must show, not vanish.
-        if error > self.max || error.is_nan() {
-            self.max = error;
+        for (k, &e) in errors.iter().enumerate() {
+            self.sum[k] += e;
+            // NaN-propagating max: a NaN must show, not vanish.
+            if e > self.max[k] || e.is_nan() {
+                self.max[k] = e;
+            }
         }
         self.t = t;
         if self.seen == self.end && self.index + 1 < self.buckets {
@@ -72,16 +98,18 @@ impl Bucketer {
         None
     }
 
-    /// Releases the last bucket (with any samples beyond the plan), if it has samples.
-    pub fn finish(&mut self) -> Option<Bucket> {
+    /// Releases the last buckets (with any samples beyond the plan), if they have samples.
+    pub fn finish(&mut self) -> Option<[Bucket; K]> {
         (self.count > 0).then(|| self.take())
     }
 
-    fn take(&mut self) -> Bucket {
-        let b = Bucket { t: self.t, mean: self.sum / self.count as f64, max: self.max };
+    fn take(&mut self) -> [Bucket; K] {
+        let n = self.count as f64;
+        let b =
+            std::array::from_fn(|k| Bucket { t: self.t, mean: self.sum[k] / n, max: self.max[k] });
         self.count = 0;
-        self.sum = 0.0;
-        self.max = 0.0;
+        self.sum = [0.0; K];
+        self.max = [0.0; K];
         b
     }
 }
@@ -128,5 +156,24 @@ mod tests {
         assert_eq!(b.push(4.0, 1.0), None);
         assert_eq!(b.finish(), Some(Bucket { t: 4.0, mean: 3.0, max: 5.0 }));
         assert_eq!(b.finish(), None);
+    }
+
+    #[test]
+    fn lanes_share_the_schedule_and_keep_their_own_sums() {
+        let mut lanes = Lanes::<2>::new(4, 2);
+        let mut one = Bucketer::new(4, 2);
+        for (i, (a, b)) in
+            [(1.0, 10.0), (3.0, f64::NAN), (5.0, 30.0), (1.0, 10.0)].iter().enumerate()
+        {
+            let t = (i + 1) as f64;
+            let got = lanes.push(t, [*a, *b]);
+            assert_eq!(got.map(|[x, _]| x), one.push(t, *a));
+            if let Some([_, y]) = got {
+                assert!(y.mean.is_nan() && y.max.is_nan(), "a NaN shows in mean and max");
+            }
+        }
+        let [x, y] = lanes.finish().unwrap();
+        assert_eq!(x, Bucket { t: 4.0, mean: 3.0, max: 5.0 });
+        assert_eq!(y, Bucket { t: 4.0, mean: 20.0, max: 30.0 });
     }
 }

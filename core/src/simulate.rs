@@ -8,6 +8,7 @@
 //! number ends the run with a [`RunError`] naming the step and time; the buckets completed
 //! by then have already been handed over.
 
+use crate::bucket::Lanes;
 use crate::latitude::{LatitudeAxis, LatitudeTracker};
 use crate::method::Integrator;
 use crate::system::System;
@@ -91,14 +92,6 @@ pub struct Problem<'a, S, const N: usize, const R: usize> {
 /// A state beyond this size has lost every digit that matters: the run has diverged.
 pub const DIVERGED: f64 = 1e100;
 
-struct Series {
-    integral: Integral,
-    /// Where its value is in [`values`]' output.
-    slot: usize,
-    initial: f64,
-    buckets: Bucketer,
-}
-
 /// The values of the step integrals at one state. The two energies are evaluated once and
 /// H = E + h derived, so asking for all three costs one potential evaluation, not three.
 #[inline]
@@ -138,32 +131,24 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
 ) -> RunOutcome {
     let (sys, h) = (problem.sys, problem.step);
     let mut st = problem.start;
-    // A fixed array and a length rather than a Vec or Options: the per-step loop over it
-    // is then a short counted loop with no branches on absent series.
-    let mut series: [Series; 4] = std::array::from_fn(|_| Series {
-        integral: Integral::Energy,
-        slot: 0,
-        initial: 0.0,
-        buckets: Bucketer::new(0, 1),
-    });
-    let step_integrals = problem.integrals.iter().filter(|&&i| i != Integral::Latitude);
     let energies = problem.integrals.iter().any(|&i| index_of(i) < 3);
     let constraint = problem.integrals.contains(&Integral::Constraint);
     let v0 = values(sys, &st, energies, constraint);
-    let mut len = 0;
-    for (slot, &integral) in series.iter_mut().zip(step_integrals) {
-        // The constraint residual is reported as is: its ideal value is 0, not its start.
-        let initial = if integral == Integral::Constraint { 0.0 } else { v0[index_of(integral)] };
-        observer.initial(integral, initial);
-        *slot = Series {
-            integral,
-            slot: index_of(integral),
-            initial,
-            buckets: Bucketer::new(problem.steps, cfg.points),
-        };
-        len += 1;
+    // The four step integrals share every sample time: one set of lanes buckets them all
+    // (lanes not asked for carry zeros), and the series asked for read their lane.
+    let mut initial = v0;
+    // The constraint residual is reported as is: its ideal value is 0, not its start.
+    initial[index_of(Integral::Constraint)] = 0.0;
+    let series: Vec<(Integral, usize)> = problem
+        .integrals
+        .iter()
+        .filter(|&&i| i != Integral::Latitude)
+        .map(|&i| (i, index_of(i)))
+        .collect();
+    for &(integral, lane) in &series {
+        observer.initial(integral, initial[lane]);
     }
-    let series = &mut series[..len];
+    let mut lanes = Lanes::<4>::new(problem.steps, cfg.points);
     let mut latitude =
         problem.latitude.filter(|_| problem.integrals.contains(&Integral::Latitude)).map(|axis| {
             observer.initial(Integral::Latitude, axis.latitude0);
@@ -171,6 +156,8 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
             (LatitudeTracker::new(axis, &st.q, &st.v), Bucketer::new(planned, cfg.points))
         });
     let every = cfg.progress_every.max(1);
+    // A countdown rather than `k % every`: no division per step.
+    let mut next_progress = every;
     for k in 1..=problem.steps {
         let t0 = (k - 1) as f64 * h;
         let failed = |failure| RunOutcome {
@@ -191,10 +178,9 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
         }
         let t = k as f64 * h;
         let now = values(sys, &st, energies, constraint);
-        for s in series.iter_mut() {
-            let e = (now[s.slot] - s.initial).abs();
-            if let Some(b) = s.buckets.push(t, e) {
-                observer.points(s.integral, b);
+        if let Some(b) = lanes.push(t, std::array::from_fn(|k| (now[k] - initial[k]).abs())) {
+            for &(integral, lane) in &series {
+                observer.points(integral, b[lane]);
             }
         }
         if let Some((tracker, buckets)) = latitude.as_mut()
@@ -203,13 +189,16 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
         {
             observer.points(Integral::Latitude, b);
         }
-        if k % every == 0 && observer.progress(k, t).is_break() {
-            return RunOutcome { steps: k, error: Some(RunError::Cancelled { step: k, t }) };
+        if k == next_progress {
+            next_progress += every;
+            if observer.progress(k, t).is_break() {
+                return RunOutcome { steps: k, error: Some(RunError::Cancelled { step: k, t }) };
+            }
         }
     }
-    for s in series.iter_mut() {
-        if let Some(b) = s.buckets.finish() {
-            observer.points(s.integral, b);
+    if let Some(b) = lanes.finish() {
+        for &(integral, lane) in &series {
+            observer.points(integral, b[lane]);
         }
     }
     if let Some((_, buckets)) = latitude.as_mut()
