@@ -127,13 +127,17 @@ impl Dla {
         // A, A', V_d, V_d', V_d'' at the last iterate share one sin/cos; A(ζ₁) at the solution
         // is then one Taylor step away when the last increment is tiny, and so are the
         // values at the stored ζ₁ that the next step and the integrals use.
-        let mut last = Taylor::at(sys, f64::NAN);
+        let mut last = None;
         solve_scalar(&self.newton, &mut w, |w| {
-            let z1 = z_a + a * h * w;
-            last = Taylor::at(sys, z1);
-            (w - rhs + b * h * last.d1, 1.0 + a * b * h * h * last.d2)
+            let at = Taylor::at(sys, z_a + a * h * w);
+            let value_slope = (w - rhs + b * h * at.d1, 1.0 + a * b * h * h * at.d2);
+            last = Some(at);
+            value_slope
         })?;
-        let a1 = last.constraint(sys, z_a + a * h * w);
+        let z1 = z_a + a * h * w;
+        // Newton evaluated at least once if it succeeded; the fallback is never taken.
+        let last = last.unwrap_or_else(|| Taylor::at(sys, z1));
+        let a1 = last.constraint(sys, z1);
         // Passenger, with ∇U(q₁) = ∇U(q_a) + αh K q̇₁ exact for quadratic U:
         // (I + α(1−α)h²K) q̇₁ − h A_aᵀλ = q̇₀ − αh∇V(q₀) − (1−α)h∇U(q_a), A(ζ₁) q̇₁ = 0.
         // The driver row of K and the driver column of A vanish, so that row reads q̇₁_ζ = w.
@@ -155,9 +159,9 @@ impl Dla {
     }
 }
 
-/// The driver's functions at a point ζ*, and their first-order Taylor expansions to a ζ
-/// within 10⁻⁸ of it, where the neglected terms (`|A''| dz²/2`, `|V_d'''| dz²/2`,
-/// `|V_d'''| dz³/6`) are below 10⁻¹⁵; farther away they are evaluated.
+/// The driver's functions at a point ζ*, and their Taylor expansions to a ζ within 10⁻⁸ of
+/// it (A and V_d' to first order, V_d to second), where the neglected terms (`|A''| dz²/2`,
+/// `|V_d'''| dz²/2`, `|V_d'''| dz³/6`) are below 10⁻¹⁵; farther away they are evaluated.
 struct Taylor<const N: usize, const R: usize> {
     zeta: f64,
     a: Matrix<R, N>,
