@@ -178,7 +178,7 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
         }
         let t = k as f64 * h;
         let now = values(sys, &st, energies, constraint);
-        if let Some(b) = lanes.push(t, std::array::from_fn(|k| (now[k] - initial[k]).abs())) {
+        if let Some(b) = lanes.push(t, std::array::from_fn(|i| (now[i] - initial[i]).abs())) {
             for &(integral, lane) in &series {
                 observer.points(integral, b[lane]);
             }
