@@ -65,14 +65,7 @@ impl Observer for Sink {
 /// Knife edge ε ∈ {0, 0.1} to t = 100 and the four CVT scenes to t = 3000, five methods
 /// each, all integrals (latitude axis included), 1000 points: about 620,000 steps.
 fn figure_set(c: &mut Criterion) {
-    let scenes = [
-        ("knife_edge", "paper"),
-        ("knife_edge", "paper-perturbed"),
-        ("cvt_pendulum", "oscillating"),
-        ("cvt_pendulum", "rotating"),
-        ("cvt_pendulum", "oscillating-perturbed"),
-        ("cvt_pendulum", "rotating-perturbed"),
-    ];
+    let scenes = nhlab_core::PAPER_SCENES;
     let mut group = c.benchmark_group("figure_set");
     group.sample_size(10);
     group.bench_function("paper_six_scenes_five_methods", |b| {

@@ -9,14 +9,6 @@ use nhlab_core::{Bucket, Integral, Method, Observer, RunConfig, Scene, SceneRequ
 use std::hint::black_box;
 
 const REPS: u32 = 20;
-const SCENES: [(&str, &str); 6] = [
-    ("knife_edge", "paper"),
-    ("knife_edge", "paper-perturbed"),
-    ("cvt_pendulum", "oscillating"),
-    ("cvt_pendulum", "rotating"),
-    ("cvt_pendulum", "oscillating-perturbed"),
-    ("cvt_pendulum", "rotating-perturbed"),
-];
 
 struct Sink(u64);
 impl Observer for Sink {
@@ -33,7 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut prepare = std::time::Duration::ZERO;
     let mut per_method = vec![std::time::Duration::ZERO; Method::paper_five().len()];
     for _ in 0..REPS {
-        for (system, preset) in SCENES {
+        for (system, preset) in nhlab_core::PAPER_SCENES {
             let req = SceneRequest {
                 system: system.into(),
                 preset: Some(preset.into()),

@@ -5,19 +5,10 @@ use nhlab_core::{
     Collect, Method, MethodSpec, RunConfig, Scene, SceneRequest, classify, method_infos,
 };
 
-const SCENES: [(&str, &str); 6] = [
-    ("knife_edge", "paper"),
-    ("knife_edge", "paper-perturbed"),
-    ("cvt_pendulum", "oscillating"),
-    ("cvt_pendulum", "rotating"),
-    ("cvt_pendulum", "oscillating-perturbed"),
-    ("cvt_pendulum", "rotating-perturbed"),
-];
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("| scene | method | integral | verdict | max | early max | late mean | ratio |");
     println!("|---|---|---|---|---|---|---|---|");
-    for (system, preset) in SCENES {
+    for (system, preset) in nhlab_core::PAPER_SCENES {
         let req = SceneRequest {
             system: system.into(),
             preset: Some(preset.into()),

@@ -36,7 +36,9 @@ pub use integral::Integral;
 pub use method::{Integrator, MethodInfo};
 pub use newton::NewtonConfig;
 pub use properties::Properties;
-pub use registry::{Method, MethodSpec, SYSTEMS, SystemEntry, method_info, method_infos, system};
+pub use registry::{
+    Method, MethodSpec, PAPER_SCENES, SYSTEMS, SystemEntry, method_info, method_infos, system,
+};
 pub use scene::{PreparedScene, Scene, SceneRequest};
 pub use simulate::{Collect, Observer, Problem, RunConfig, RunOutcome};
 pub use state::State;

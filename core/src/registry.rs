@@ -26,6 +26,17 @@ pub static SYSTEMS: &[SystemEntry] = &[
     SystemEntry::of::<MobileRobot, 4, 2>(),
 ];
 
+/// The paper's six experiments (MATH.md §6) as (system, preset): its figure set, the
+/// scorecard's default scenes and the benchmarks' workload.
+pub const PAPER_SCENES: [(&str, &str); 6] = [
+    ("knife_edge", "paper"),
+    ("knife_edge", "paper-perturbed"),
+    ("cvt_pendulum", "oscillating"),
+    ("cvt_pendulum", "rotating"),
+    ("cvt_pendulum", "oscillating-perturbed"),
+    ("cvt_pendulum", "rotating-perturbed"),
+];
+
 macro_rules! methods {
     ($($variant:ident),* $(,)?) => {
         /// A configured method of the registry.

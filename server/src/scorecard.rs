@@ -27,14 +27,7 @@ use utoipa::ToSchema;
 pub const MAX_SCENES: usize = 16;
 
 /// The paper's six experiments, the default scenes.
-pub const PAPER_SCENES: [(&str, &str); 6] = [
-    ("knife_edge", "paper"),
-    ("knife_edge", "paper-perturbed"),
-    ("cvt_pendulum", "oscillating"),
-    ("cvt_pendulum", "rotating"),
-    ("cvt_pendulum", "oscillating-perturbed"),
-    ("cvt_pendulum", "rotating-perturbed"),
-];
+pub use nhlab_core::PAPER_SCENES;
 
 /// The body of `POST /scorecard`; every field is optional (`{}` is the paper's scorecard).
 #[derive(Debug, Clone, Default, PartialEq, Deserialize, ToSchema)]
