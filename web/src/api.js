@@ -87,3 +87,18 @@ export function fetchWorkPrecision(body, options) {
 export function retryAfter(error) {
   return error instanceof ApiError && error.status === 503 ? error.retryAfter ?? 1 : null;
 }
+
+/** Runs `attempt` until it does not fail with a 503, calling `onWait(seconds)` before each
+ *  retry; any other failure (an abort included) is thrown. */
+export async function retrying(attempt, onWait) {
+  for (;;) {
+    try {
+      return await attempt();
+    } catch (e) {
+      const wait = retryAfter(e);
+      if (wait === null) throw e;
+      onWait(wait);
+      await new Promise((r) => setTimeout(r, wait * 1000));
+    }
+  }
+}

@@ -7,7 +7,7 @@
 // The six scenes are streamed one after another (the server admits a few simulations at once;
 // a 503 is retried after its Retry-After), each feeding the panels that show it.
 
-import { retryAfter, simulate } from './api.js';
+import { retrying, simulate } from './api.js';
 import { Plots } from './plots.js';
 import { Result } from './result.js';
 import { PAPER_METHODS, requestBody } from './state.js';
@@ -166,9 +166,9 @@ export class PaperView {
       frame = 0;
       for (const p of panels) p.plots.update({ stat: 'mean', window: p.window });
     };
-    for (;;) {
-      try {
-        await simulate(body, {
+    await retrying(
+      () =>
+        simulate(body, {
           signal: mine.signal,
           onEvent: (name, data) => {
             if (this.controller !== mine) return;
@@ -184,15 +184,9 @@ export class PaperView {
             }
             if (!frame) frame = requestAnimationFrame(draw);
           },
-        });
-        break;
-      } catch (e) {
-        const wait = retryAfter(e);
-        if (wait === null) throw e;
-        this.#status('running', `The server is busy; retrying ${key} in ${wait} s…`);
-        await new Promise((r) => setTimeout(r, wait * 1000));
-      }
-    }
+        }),
+      (wait) => this.#status('running', `The server is busy; retrying ${key} in ${wait} s…`),
+    );
     cancelAnimationFrame(frame);
     draw();
   }

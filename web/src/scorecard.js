@@ -4,7 +4,7 @@
 // system beside it, a legend and the server's criterion. Clicking a cell opens that scene
 // in the main view with the scorecard's methods.
 
-import { ApiError, fetchScorecard, retryAfter } from './api.js';
+import { ApiError, fetchScorecard, retrying } from './api.js';
 import { INTEGRAL_NAME, INTEGRAL_SHORT, VERDICTS, propertyMark, sceneIntegrals, systemsOf, verdictTitle } from './verdicts.js';
 
 const SYSTEM_SHORT = { knife_edge: 'knife', cvt_pendulum: 'CVT' };
@@ -34,17 +34,10 @@ export class ScorecardView {
     this.controller = mine;
     this.#status('running', 'Computing the scorecard: every method on the paper’s six scenes…');
     try {
-      for (;;) {
-        try {
-          this.card = await fetchScorecard({}, { signal: mine.signal });
-          break;
-        } catch (e) {
-          const wait = retryAfter(e);
-          if (wait === null) throw e;
-          this.#status('running', `The server is busy; retrying in ${wait} s…`);
-          await new Promise((r) => setTimeout(r, wait * 1000));
-        }
-      }
+      this.card = await retrying(
+        () => fetchScorecard({}, { signal: mine.signal }),
+        (wait) => this.#status('running', `The server is busy; retrying in ${wait} s…`),
+      );
       if (this.controller !== mine) return;
       this.render();
       const runs = this.card.scenes.reduce((n, s) => n + s.runs.length, 0);

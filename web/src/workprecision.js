@@ -5,7 +5,7 @@
 // the form's plus `levels` and `repeats`, in the URL as `?view=work-precision&…`.
 
 import uPlot from 'uplot';
-import { ApiError, fetchWorkPrecision, retryAfter } from './api.js';
+import { ApiError, fetchWorkPrecision, retrying } from './api.js';
 import { runColor } from './plots.js';
 import { MAX_LEVELS, MAX_REPEATS, curves, decodeSettings, formatOrder, workPrecisionBody, workPrecisionQuery } from './precision.js';
 
@@ -70,18 +70,10 @@ export class WorkPrecisionView {
     const h = state.step;
     this.#status('running', `Measuring ${state.methods.length} methods at ${settings.levels} step sizes${h ? ` from h = ${h}` : ''}, ${settings.repeats} repeats each…`);
     try {
-      let answer;
-      for (;;) {
-        try {
-          answer = await fetchWorkPrecision(workPrecisionBody(state, settings), { signal: mine.signal });
-          break;
-        } catch (e) {
-          const wait = retryAfter(e);
-          if (wait === null) throw e;
-          this.#status('running', `The server is busy; retrying in ${wait} s…`);
-          await new Promise((r) => setTimeout(r, wait * 1000));
-        }
-      }
+      const answer = await retrying(
+        () => fetchWorkPrecision(workPrecisionBody(state, settings), { signal: mine.signal }),
+        (wait) => this.#status('running', `The server is busy; retrying in ${wait} s…`),
+      );
       if (this.controller !== mine) return;
       this.computedFor = query;
       this.render(answer);

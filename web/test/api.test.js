@@ -1,0 +1,35 @@
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { ApiError, retrying } from '../src/api.js';
+
+test('retrying waits out 503s and returns the first answer', async () => {
+  let calls = 0;
+  const waits = [];
+  const answer = await retrying(
+    async () => {
+      calls += 1;
+      if (calls < 3) throw new ApiError(503, 'busy', null, 0);
+      return 'ok';
+    },
+    (wait) => waits.push(wait),
+  );
+  assert.equal(answer, 'ok');
+  assert.equal(calls, 3);
+  assert.deepEqual(waits, [0, 0]);
+});
+
+test('retrying throws any other failure at once', async () => {
+  let calls = 0;
+  const bad = new ApiError(422, 'step: must be positive', 'step', null);
+  await assert.rejects(
+    retrying(
+      async () => {
+        calls += 1;
+        throw bad;
+      },
+      () => assert.fail('no retry for a 422'),
+    ),
+    bad,
+  );
+  assert.equal(calls, 1);
+});
