@@ -4,14 +4,17 @@
 //! compensation it grows like √N, with it it should stay flat.
 //!
 //! `cargo run --release -p nhlab-core --example dd_roundoff -- [steps]`
-//! (default 10⁸ steps of the paper's knife edge, h = π/10). "plain" zeroes the compensation
-//! terms after every step, which is exactly uncompensated summation.
+//! (default 10⁸ steps of the paper's knife edge, at the paper's h = π/10 and at h = 0.31).
+//! "plain" zeroes the compensation terms after every step, which is exactly uncompensated
+//! summation. At h = π/10 the discrete orbit is periodic (20 steps to a period, as is the
+//! exact one, 2π): every period rounds the same numbers the same way, so the rounding errors
+//! add up linearly instead of like √N. h = 0.31 is not commensurate with the period.
 
 use nhlab_core::methods::Dd;
 use nhlab_core::systems::KnifeEdge;
 use nhlab_core::{Method, Scene, SceneRequest, State, System, Vector};
 
-fn run(steps: u64, compensated: bool) -> Vec<(u64, f64)> {
+fn run(steps: u64, h: f64, compensated: bool) -> Vec<(u64, f64)> {
     let req = SceneRequest {
         system: "knife_edge".into(),
         preset: Some("paper".into()),
@@ -28,7 +31,7 @@ fn run(steps: u64, compensated: bool) -> Vec<(u64, f64)> {
     let mut out = Vec::new();
     let mut next = 10_000;
     for k in 1..=steps {
-        m.step(&sys, &mut st, scene.step).expect("step");
+        m.step(&sys, &mut st, h).expect("step");
         if !compensated {
             st.q_compensation = Vector::zeros();
             st.v_compensation = Vector::zeros();
@@ -44,10 +47,12 @@ fn run(steps: u64, compensated: bool) -> Vec<(u64, f64)> {
 
 fn main() {
     let steps: u64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(100_000_000);
-    let plain = run(steps, false);
-    let compensated = run(steps, true);
-    println!("steps | max |H − H(0)| plain | compensated");
-    for ((k, a), (_, b)) in plain.iter().zip(&compensated) {
-        println!("{k} | {a:.2e} | {b:.2e}");
+    println!("steps | h | max |H − H(0)| plain | compensated");
+    for h in [std::f64::consts::PI / 10.0, 0.31] {
+        let plain = run(steps, h, false);
+        let compensated = run(steps, h, true);
+        for ((k, a), (_, b)) in plain.iter().zip(&compensated) {
+            println!("{k} | {h:.4} | {a:.2e} | {b:.2e}");
+        }
     }
 }
