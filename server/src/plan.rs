@@ -2,7 +2,7 @@
 //! ready to run. Every error names the field at fault.
 
 use crate::{AppError, AppState, Config, MethodRequest, SceneView, SimulateRequest};
-use nhlab_core::{InputError, Method, MethodSpec, PreparedScene, Scene, SceneRequest};
+use nhlab_core::{InputError, Method, MethodSpec, PreparedScene, Scene};
 use std::sync::Arc;
 
 /// How the result goes back: the limits differ.
@@ -37,15 +37,7 @@ impl Plan {
     ) -> Result<Self, AppError> {
         let config = &state.config;
         let axis = |scene: &Scene| state.caches.latitude(scene);
-        let scene = Scene::resolve(&SceneRequest {
-            system: req.system.clone(),
-            preset: req.preset.clone(),
-            params: req.params.iter().flatten().map(|(n, v)| (n.clone(), *v)).collect(),
-            q: req.q.clone(),
-            v: req.v.clone(),
-            step: req.step,
-            t_end: req.t_end,
-        })?;
+        let scene = Scene::resolve(&req.scene_request())?;
         check_steps(&scene, config, delivery)?;
         let methods = methods(req.methods.as_deref(), config)?;
         let points = points(req.points, config)?;

@@ -1,55 +1,112 @@
-//! [`SimulateRequest`]: the body of `POST /simulate`, read with `serde_path_to_error` so a
-//! wrong type or an unknown field is reported with its path. Only `system` is required.
+//! The bodies that describe a scene: [`SimulateRequest`] (`POST /simulate`), [`SceneSpec`]
+//! (a scene of `POST /scorecard`) and, through [`scene_body!`], `POST /work-precision`'s. They
+//! are read with `serde_path_to_error`, so a wrong type or an unknown field is reported with
+//! its path. Only `system` is required.
 
 use crate::{AppError, openapi::schemas};
 use serde::Deserialize;
 use serde::de::{self, MapAccess, Visitor};
-use std::collections::BTreeMap;
 use std::fmt;
-use utoipa::ToSchema;
 
-/// The body of `POST /simulate`.
-#[derive(Debug, Clone, Default, PartialEq, Deserialize, ToSchema)]
-#[serde(deny_unknown_fields)]
-pub struct SimulateRequest {
-    /// System id (see `GET /systems`).
-    #[schema(schema_with = schemas::system_id)]
-    pub system: String,
-    /// Preset id; fills params, q, v, step and t_end (default: the system's first preset).
-    #[serde(default)]
-    #[schema(schema_with = schemas::preset_id)]
-    pub preset: Option<String>,
-    /// Parameter overrides by name, e.g. `{"epsilon": 0.5}`.
-    #[serde(default)]
-    #[schema(schema_with = schemas::params)]
-    pub params: Option<BTreeMap<String, f64>>,
-    /// Initial configuration (one number per degree of freedom).
-    #[serde(default)]
-    pub q: Option<Vec<f64>>,
-    /// Initial velocity, consistent with the constraints.
-    #[serde(default)]
-    pub v: Option<Vec<f64>>,
-    /// Step size, positive.
-    #[serde(default)]
-    #[schema(exclusive_minimum = 0.0)]
-    pub step: Option<f64>,
-    /// Final time, at least one step.
-    #[serde(default)]
-    #[schema(exclusive_minimum = 0.0)]
-    pub t_end: Option<f64>,
-    /// Methods to run, each `{"id": "dla", "alpha": 0.4}` or just `"leapfrog"`
-    /// (default: the paper's five).
-    #[serde(default)]
-    #[schema(schema_with = schemas::methods)]
-    pub methods: Option<Vec<MethodRequest>>,
-    /// Integrals to measure (default: all the system has).
-    #[serde(default)]
-    #[schema(schema_with = schemas::integrals)]
-    pub integrals: Option<Vec<String>>,
-    /// Buckets per series (default 1000).
-    #[serde(default)]
-    #[schema(minimum = 1, maximum = 100_000)]
-    pub points: Option<i64>,
+/// Declares a request body that starts with a scene: the fields every such body shares (with
+/// their docs and schemas), then its own, and the conversions to the core's
+/// [`SceneRequest`](nhlab_core::SceneRequest) and to a `/simulate` body. A macro because serde cannot `flatten` a shared struct into a
+/// body that denies unknown fields.
+macro_rules! scene_body {
+    (
+        $(#[$meta:meta])*
+        pub struct $name:ident {
+            $($(#[$field_meta:meta])* pub $field:ident: $ty:ty,)*
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Default, PartialEq, serde::Deserialize, utoipa::ToSchema)]
+        #[serde(deny_unknown_fields)]
+        pub struct $name {
+            /// System id (see `GET /systems`).
+            #[schema(schema_with = $crate::openapi::schemas::system_id)]
+            pub system: String,
+            /// Preset id; fills params, q, v, step and t_end (default: the system's first
+            /// preset).
+            #[serde(default)]
+            #[schema(schema_with = $crate::openapi::schemas::preset_id)]
+            pub preset: Option<String>,
+            /// Parameter overrides by name, e.g. `{"epsilon": 0.5}`.
+            #[serde(default)]
+            #[schema(schema_with = $crate::openapi::schemas::params)]
+            pub params: Option<std::collections::BTreeMap<String, f64>>,
+            /// Initial configuration (one number per degree of freedom).
+            #[serde(default)]
+            pub q: Option<Vec<f64>>,
+            /// Initial velocity, consistent with the constraints.
+            #[serde(default)]
+            pub v: Option<Vec<f64>>,
+            /// Step size, positive.
+            #[serde(default)]
+            #[schema(exclusive_minimum = 0.0)]
+            pub step: Option<f64>,
+            /// Final time, at least one step.
+            #[serde(default)]
+            #[schema(exclusive_minimum = 0.0)]
+            pub t_end: Option<f64>,
+            /// Integrals to measure (default: all the system has).
+            #[serde(default)]
+            #[schema(schema_with = $crate::openapi::schemas::integrals)]
+            pub integrals: Option<Vec<String>>,
+            $($(#[$field_meta])* pub $field: $ty,)*
+        }
+
+        impl $name {
+            /// The scene, for the core to resolve.
+            pub fn scene_request(&self) -> nhlab_core::SceneRequest {
+                nhlab_core::SceneRequest {
+                    system: self.system.clone(),
+                    preset: self.preset.clone(),
+                    params: self.params.iter().flatten().map(|(n, v)| (n.clone(), *v)).collect(),
+                    q: self.q.clone(),
+                    v: self.v.clone(),
+                    step: self.step,
+                    t_end: self.t_end,
+                }
+            }
+
+            /// The `/simulate` body of this scene with `methods` and `points`.
+            pub fn to_simulate(
+                &self,
+                methods: Option<Vec<$crate::MethodRequest>>,
+                points: Option<i64>,
+            ) -> $crate::SimulateRequest {
+                $crate::SimulateRequest {
+                    system: self.system.clone(),
+                    preset: self.preset.clone(),
+                    params: self.params.clone(),
+                    q: self.q.clone(),
+                    v: self.v.clone(),
+                    step: self.step,
+                    t_end: self.t_end,
+                    integrals: self.integrals.clone(),
+                    methods,
+                    points,
+                }
+            }
+        }
+    };
+}
+pub(crate) use scene_body;
+
+scene_body! {
+    /// The body of `POST /simulate`.
+    pub struct SimulateRequest {
+        /// Methods to run, each `{"id": "dla", "alpha": 0.4}` or just `"leapfrog"`
+        /// (default: the paper's five).
+        #[serde(default)]
+        #[schema(schema_with = schemas::methods)]
+        pub methods: Option<Vec<MethodRequest>>,
+        /// Buckets per series (default 1000).
+        #[serde(default)]
+        #[schema(minimum = 1, maximum = 100_000)]
+        pub points: Option<i64>,
+    }
 }
 
 impl SimulateRequest {
@@ -111,59 +168,7 @@ impl<'de> Visitor<'de> for MethodVisitor {
     }
 }
 
-/// One scene of a `POST /scorecard`: a `/simulate` body without `methods` and `points`.
-#[derive(Debug, Clone, Default, PartialEq, Deserialize, ToSchema)]
-#[serde(deny_unknown_fields)]
-pub struct SceneSpec {
-    /// System id (see `GET /systems`).
-    #[schema(schema_with = schemas::system_id)]
-    pub system: String,
-    /// Preset id (default: the system's first preset).
-    #[serde(default)]
-    #[schema(schema_with = schemas::preset_id)]
-    pub preset: Option<String>,
-    /// Parameter overrides by name.
-    #[serde(default)]
-    #[schema(schema_with = schemas::params)]
-    pub params: Option<BTreeMap<String, f64>>,
-    /// Initial configuration.
-    #[serde(default)]
-    pub q: Option<Vec<f64>>,
-    /// Initial velocity, consistent with the constraints.
-    #[serde(default)]
-    pub v: Option<Vec<f64>>,
-    /// Step size, positive.
-    #[serde(default)]
-    #[schema(exclusive_minimum = 0.0)]
-    pub step: Option<f64>,
-    /// Final time, at least one step.
-    #[serde(default)]
-    #[schema(exclusive_minimum = 0.0)]
-    pub t_end: Option<f64>,
-    /// Integrals to judge (default: all the system has).
-    #[serde(default)]
-    #[schema(schema_with = schemas::integrals)]
-    pub integrals: Option<Vec<String>>,
-}
-
-impl SceneSpec {
-    /// The `/simulate` body of this scene with `methods` and `points`.
-    pub fn into_simulate(
-        self,
-        methods: Vec<MethodRequest>,
-        points: Option<i64>,
-    ) -> SimulateRequest {
-        SimulateRequest {
-            system: self.system,
-            preset: self.preset,
-            params: self.params,
-            q: self.q,
-            v: self.v,
-            step: self.step,
-            t_end: self.t_end,
-            methods: Some(methods),
-            integrals: self.integrals,
-            points,
-        }
-    }
+scene_body! {
+    /// One scene of a `POST /scorecard`: a `/simulate` body without `methods` and `points`.
+    pub struct SceneSpec {}
 }

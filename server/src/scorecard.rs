@@ -215,7 +215,7 @@ fn plans(req: &ScorecardRequest, state: &AppState) -> Result<Vec<Plan>, AppError
         .into_iter()
         .enumerate()
         .map(|(i, scene)| {
-            let sim = scene.into_simulate(methods.clone(), req.points);
+            let sim = scene.to_simulate(Some(methods.clone()), req.points);
             Plan::resolve(&sim, state, Delivery::Json).map_err(|mut e| {
                 // Methods and points are the scorecard's own fields; the rest is the scene's.
                 if let Some(path) = &e.path

@@ -11,6 +11,7 @@
 //! after 10⁵ steps, so its cost is bounded whatever t_end is.
 
 use crate::plan::Delivery;
+use crate::request::scene_body;
 use crate::{
     AppError, AppState, Cancel, MethodRequest, MethodView, Plan, SceneView, SimulateRequest, Slot,
     Status, openapi::schemas,
@@ -22,7 +23,7 @@ use axum::extract::rejection::BytesRejection;
 use nhlab_core::reference::TOL;
 use nhlab_core::work_precision::{measure_until, reference};
 use nhlab_core::{Scene, SceneRequest};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use utoipa::ToSchema;
@@ -36,59 +37,32 @@ pub const DEFAULT_LEVELS: i64 = 4;
 /// Repetitions when `repeats` is not given.
 pub const DEFAULT_REPEATS: i64 = 3;
 
-/// The body of `POST /work-precision`: a `/simulate` scene and methods (without `points`),
-/// and the step sizes to measure.
-#[derive(Debug, Clone, Default, PartialEq, Deserialize, ToSchema)]
-#[serde(deny_unknown_fields)]
-pub struct WorkPrecisionRequest {
-    /// System id (see `GET /systems`).
-    #[schema(schema_with = schemas::system_id)]
-    pub system: String,
-    /// Preset id (default: the system's first preset).
-    #[serde(default)]
-    #[schema(schema_with = schemas::preset_id)]
-    pub preset: Option<String>,
-    /// Parameter overrides by name.
-    #[serde(default)]
-    #[schema(schema_with = schemas::params)]
-    pub params: Option<BTreeMap<String, f64>>,
-    /// Initial configuration.
-    #[serde(default)]
-    pub q: Option<Vec<f64>>,
-    /// Initial velocity, consistent with the constraints.
-    #[serde(default)]
-    pub v: Option<Vec<f64>>,
-    /// The scene's step: the largest of the `levels` (when `steps` is given and `step` is
-    /// not, the largest of `steps` stands for it).
-    #[serde(default)]
-    #[schema(exclusive_minimum = 0.0)]
-    pub step: Option<f64>,
-    /// Final time: where the final error is measured.
-    #[serde(default)]
-    #[schema(exclusive_minimum = 0.0)]
-    pub t_end: Option<f64>,
-    /// Methods, as in `/simulate` (default: the paper's five).
-    #[serde(default)]
-    #[schema(schema_with = schemas::methods)]
-    pub methods: Option<Vec<MethodRequest>>,
-    /// Integrals whose largest error is reported (default: all the system has).
-    #[serde(default)]
-    #[schema(schema_with = schemas::integrals)]
-    pub integrals: Option<Vec<String>>,
-    /// Step sizes, each in (0, t_end]; each is rounded to t_end / n so the run ends at
-    /// t_end. Not together with `levels`.
-    #[serde(default)]
-    #[schema(min_items = 1, max_items = 12)]
-    pub steps: Option<Vec<f64>>,
-    /// Step sizes h, h/2, …, h/2^(levels−1) from the scene's step (default 4 when `steps`
-    /// is not given).
-    #[serde(default)]
-    #[schema(minimum = 1, maximum = 12)]
-    pub levels: Option<i64>,
-    /// Timing repetitions per run; the fastest counts (default 3).
-    #[serde(default)]
-    #[schema(minimum = 1, maximum = 10)]
-    pub repeats: Option<i64>,
+scene_body! {
+    /// The body of `POST /work-precision`: a `/simulate` scene and methods (without
+    /// `points`), and the step sizes to measure. The scene's `step` is the largest of the
+    /// `levels` (when `steps` is given and `step` is not, the largest of `steps` stands for
+    /// it); `t_end` is where the final error is measured; `integrals` are those whose largest
+    /// error is reported.
+    pub struct WorkPrecisionRequest {
+        /// Methods, as in `/simulate` (default: the paper's five).
+        #[serde(default)]
+        #[schema(schema_with = schemas::methods)]
+        pub methods: Option<Vec<MethodRequest>>,
+        /// Step sizes, each in (0, t_end]; each is rounded to t_end / n so the run ends at
+        /// t_end. Not together with `levels`.
+        #[serde(default)]
+        #[schema(min_items = 1, max_items = 12)]
+        pub steps: Option<Vec<f64>>,
+        /// Step sizes h, h/2, …, h/2^(levels−1) from the scene's step (default 4 when `steps`
+        /// is not given).
+        #[serde(default)]
+        #[schema(minimum = 1, maximum = 12)]
+        pub levels: Option<i64>,
+        /// Timing repetitions per run; the fastest counts (default 3).
+        #[serde(default)]
+        #[schema(minimum = 1, maximum = 10)]
+        pub repeats: Option<i64>,
+    }
 }
 
 /// The answer of `POST /work-precision`.
@@ -196,19 +170,8 @@ struct Job {
 
 impl Job {
     fn resolve(req: &WorkPrecisionRequest, state: &AppState) -> Result<Self, AppError> {
-        let mut sim = SimulateRequest {
-            system: req.system.clone(),
-            preset: req.preset.clone(),
-            params: req.params.clone(),
-            q: req.q.clone(),
-            v: req.v.clone(),
-            step: req.step,
-            t_end: req.t_end,
-            methods: req.methods.clone(),
-            integrals: req.integrals.clone(),
-            // One bucket per series: its max is the integral's largest error.
-            points: Some(1),
-        };
+        // One bucket per series: its max is the integral's largest error.
+        let mut sim = req.to_simulate(req.methods.clone(), Some(1));
         if let (Some(steps), None, None) = (&req.steps, req.step, req.levels) {
             // The scene's own step is not run: the largest step asked for stands in for it,
             // once the steps are checked against t_end (the preset's step might not even fit
@@ -257,16 +220,9 @@ impl Job {
 
 /// The t_end `sim` resolves to, whatever its step.
 fn scene_t_end(sim: &SimulateRequest) -> Result<f64, AppError> {
-    let scene = Scene::resolve(&SceneRequest {
-        system: sim.system.clone(),
-        preset: sim.preset.clone(),
-        params: sim.params.iter().flatten().map(|(n, v)| (n.clone(), *v)).collect(),
-        q: sim.q.clone(),
-        v: sim.v.clone(),
-        // Any step that fits every t_end: only t_end is wanted here.
-        step: Some(f64::MIN_POSITIVE),
-        t_end: sim.t_end,
-    })?;
+    // Any step that fits every t_end: only t_end is wanted here.
+    let scene =
+        Scene::resolve(&SceneRequest { step: Some(f64::MIN_POSITIVE), ..sim.scene_request() })?;
     Ok(scene.t_end)
 }
 
