@@ -53,6 +53,17 @@ impl TestServer {
         (status, response.json().await.expect("a JSON body"))
     }
 
+    /// `POST path` with a JSON body, asking for server-sent events: the response, unread.
+    pub async fn post_stream(&self, path: &str, body: &Value) -> reqwest::Response {
+        reqwest::Client::new()
+            .post(self.at(path))
+            .header("accept", "text/event-stream")
+            .json(body)
+            .send()
+            .await
+            .expect("request succeeds")
+    }
+
     /// Waits until no run computes and no slot is held, failing after `limit`; how long it
     /// took.
     pub async fn wait_idle(&self, limit: std::time::Duration) -> std::time::Duration {

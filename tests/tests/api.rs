@@ -9,13 +9,7 @@ use std::collections::BTreeMap;
 use std::time::Duration;
 
 async fn post_stream(server: &TestServer, body: &Value) -> reqwest::Response {
-    let response = reqwest::Client::new()
-        .post(server.at("/simulate"))
-        .header("accept", "text/event-stream")
-        .json(body)
-        .send()
-        .await
-        .expect("request succeeds");
+    let response = server.post_stream("/simulate", body).await;
     assert_eq!(response.status(), 200);
     let content_type = response.headers()["content-type"].to_str().unwrap().to_owned();
     assert!(content_type.starts_with("text/event-stream"), "{content_type}");

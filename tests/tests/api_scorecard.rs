@@ -57,13 +57,7 @@ async fn simulate_series_carry_verdicts_and_the_stream_agrees() {
     assert!(dla04["late"].as_f64().unwrap() > dla04["early"].as_f64().unwrap(), "{dla04}");
 
     // The stream: no verdict in `points`, the same verdicts in `run`.
-    let response = reqwest::Client::new()
-        .post(server.at("/simulate"))
-        .header("accept", "text/event-stream")
-        .json(&body)
-        .send()
-        .await
-        .unwrap();
+    let response = server.post_stream("/simulate", &body).await;
     let events = SseReader::new(response).collect().await;
     let mut streamed = vec![Value::Null; runs.len()];
     for e in &events {

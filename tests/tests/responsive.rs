@@ -27,13 +27,7 @@ async fn health_answers_fast_while_every_slot_computes() {
     let mut readers = Vec::new();
     let mut progress = Vec::new();
     for _ in 0..SLOTS {
-        let response = reqwest::Client::new()
-            .post(server.at("/simulate"))
-            .header("accept", "text/event-stream")
-            .json(&long)
-            .send()
-            .await
-            .unwrap();
+        let response = server.post_stream("/simulate", &long).await;
         assert_eq!(response.status(), 200);
         let mut events = SseReader::new(response);
         assert_eq!(events.next().await.unwrap().event, "scene");

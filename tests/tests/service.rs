@@ -22,13 +22,7 @@ fn with_slots(n: usize) -> Config {
 
 /// Opens a long stream and waits for its first event (it is admitted and computing).
 async fn open_stream(server: &TestServer) -> SseReader {
-    let response = reqwest::Client::new()
-        .post(server.at("/simulate"))
-        .header("accept", "text/event-stream")
-        .json(&long_stream())
-        .send()
-        .await
-        .unwrap();
+    let response = server.post_stream("/simulate", &long_stream()).await;
     assert_eq!(response.status(), 200);
     let mut events = SseReader::new(response);
     assert_eq!(events.next().await.unwrap().event, "scene");
@@ -122,13 +116,7 @@ async fn a_finished_stream_frees_its_slot() {
     let server = TestServer::with_config(with_slots(1)).await;
     let request = json!({"system": "knife_edge", "preset": "paper", "points": 10});
     for _ in 0..3 {
-        let response = reqwest::Client::new()
-            .post(server.at("/simulate"))
-            .header("accept", "text/event-stream")
-            .json(&request)
-            .send()
-            .await
-            .unwrap();
+        let response = server.post_stream("/simulate", &request).await;
         assert_eq!(response.status(), 200);
         let events = SseReader::new(response).collect().await;
         assert_eq!(events.last().unwrap().event, "done");
@@ -178,13 +166,7 @@ async fn a_panicking_simulation_fails_its_own_request_only() {
         assert_eq!(status, 200, "{body}");
     }
     // In a stream each run reports the fault and the stream ends normally.
-    let response = reqwest::Client::new()
-        .post(server.at("/simulate"))
-        .header("accept", "text/event-stream")
-        .json(&faulty)
-        .send()
-        .await
-        .unwrap();
+    let response = server.post_stream("/simulate", &faulty).await;
     let events = SseReader::new(response).collect().await;
     let runs: Vec<_> = events.iter().filter(|e| e.event == "run").collect();
     assert_eq!(runs.len(), 5);
