@@ -10,17 +10,16 @@
 use crate::plan::Delivery;
 use crate::request::SceneSpec;
 use crate::{
-    AppError, AppState, CRITERION, Cancel, MethodRequest, MethodView, Plan, Runner, SceneView,
-    Slot, Status, VerdictView, Verdicts, openapi::schemas,
+    AppError, AppState, CRITERION, Cancel, Collector, MethodRequest, MethodView, Plan, Runner,
+    SceneView, Slot, Status, VerdictView, openapi::schemas,
 };
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::State;
 use axum::extract::rejection::BytesRejection;
-use nhlab_core::{Bucket, Integral, Method, Observer, Properties, method_infos};
+use nhlab_core::{Method, Properties, method_infos};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::ops::ControlFlow;
 use utoipa::ToSchema;
 
 /// Most scenes per scorecard.
@@ -230,27 +229,6 @@ fn plans(req: &ScorecardRequest, state: &AppState) -> Result<Vec<Plan>, AppError
         .collect()
 }
 
-/// Observes a scorecard run: keeps its series for the verdicts, stops when cancelled.
-#[derive(Debug)]
-struct Judge {
-    verdicts: Verdicts,
-    cancel: Cancel,
-}
-
-impl Observer for Judge {
-    fn initial(&mut self, integral: Integral, value: f64) {
-        self.verdicts.initial(integral, value);
-    }
-
-    fn points(&mut self, integral: Integral, bucket: Bucket) {
-        self.verdicts.push(integral, bucket);
-    }
-
-    fn progress(&mut self, _steps_done: u64, _t: f64) -> ControlFlow<()> {
-        if self.cancel.is_cancelled() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
-    }
-}
-
 async fn run(
     state: &AppState,
     plans: Vec<Plan>,
@@ -267,10 +245,8 @@ async fn run(
     for plan in &plans {
         runs.push(
             (0..plan.methods.len())
-                .map(|i| {
-                    let judge = Judge { verdicts: Verdicts::default(), cancel: cancel.clone() };
-                    runner.spawn(plan, i, judge)
-                })
+                // A collector keeps the series the verdicts need; only they are reported.
+                .map(|i| runner.spawn(plan, i, Collector::new(&[], cancel.clone())))
                 .collect::<Vec<_>>(),
         );
         let (scene, methods) = (plan.prepared.clone(), plan.methods.clone());
