@@ -11,7 +11,7 @@ use nhlab_core::{Method, MethodSpec, Scene, SceneRequest, method_infos};
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("scene,method,step,steps,elapsed_ms,final_error");
     let scenes =
-        [("knife_edge", "paper", 0.4, 19), ("cvt_pendulum", "rotating-perturbed", 0.2, 17)];
+        [("knife_edge", "paper", 0.4, 19), ("cvt_pendulum", "rotating-perturbed", 0.2, 19)];
     for (system, preset, h0, levels) in scenes {
         let req = SceneRequest {
             system: system.into(),
@@ -21,8 +21,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let scene = Scene::resolve(&req)?.prepare(Some(&["energy".into()]))?;
         let r = reference(&scene)?;
         eprintln!(
-            "{system}/{preset}: reference {:.1} ms, {} evaluations, constraint residual {:.1e}",
-            r.elapsed_ms, r.state.evaluations, r.state.constraint_residual
+            "{system}/{preset}: reference {:.1} ms, {} evaluations, constraint residual {:.1e}, \
+             y = {:?}",
+            r.elapsed_ms,
+            r.state.evaluations,
+            r.state.constraint_residual,
+            [r.state.q.as_slice(), r.state.v.as_slice()].concat()
         );
         let mut methods = Method::paper_five().to_vec();
         for info in method_infos() {

@@ -26,6 +26,17 @@ pub struct State<const N: usize, const R: usize> {
     pub v_compensation: Vector<N>,
     /// `∇V` and `A` where the last step ended, if it computed them (first same as last).
     pub(crate) at_end: AtEnd<N, R>,
+    /// The acceleration `q̈(q, q̇)` where the last step ended, if it computed it (RK4).
+    pub(crate) acceleration_at_end: AccelerationAtEnd<N>,
+}
+
+/// `q̈(q, q̇)` of the reduced ODE at the state a step ended on: RK4's last evaluation is the
+/// first stage of its next step. Keyed by `q` and `q̇` (the acceleration depends on both).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct AccelerationAtEnd<const N: usize> {
+    q: Vector<N>,
+    v: Vector<N>,
+    acceleration: Vector<N>,
 }
 
 /// `∇V(q)`, `A(q)` and `V_d(ζ)` at the configuration a step ended on, so that the next
@@ -49,6 +60,17 @@ impl<const N: usize, const R: usize> AtEnd<N, R> {
             gradient: Vector::zeros(),
             constraint: Matrix::zeros(),
             driver_potential: 0.0,
+        }
+    }
+}
+
+impl<const N: usize> AccelerationAtEnd<N> {
+    /// Knows nothing.
+    fn empty() -> Self {
+        Self {
+            q: Vector::repeat(f64::NAN),
+            v: Vector::repeat(f64::NAN),
+            acceleration: Vector::zeros(),
         }
     }
 }
@@ -79,6 +101,7 @@ impl<const N: usize, const R: usize> State<N, R> {
             q_compensation: Vector::zeros(),
             v_compensation: Vector::zeros(),
             at_end: AtEnd::empty(),
+            acceleration_at_end: AccelerationAtEnd::empty(),
         })
     }
 
@@ -127,6 +150,19 @@ impl<const N: usize, const R: usize> State<N, R> {
         driver_potential: f64,
     ) {
         self.at_end = AtEnd { q: self.q, gradient, constraint, driver_potential };
+    }
+
+    /// `q̈(q, q̇)` at the current state, if the step that ended here remembered it.
+    #[inline]
+    pub(crate) fn acceleration(&self) -> Option<Vector<N>> {
+        let a = &self.acceleration_at_end;
+        (a.q == self.q && a.v == self.v).then_some(a.acceleration)
+    }
+
+    /// Remembers `q̈` at the current state (call after the step has moved it).
+    #[inline]
+    pub(crate) fn remember_acceleration(&mut self, acceleration: Vector<N>) {
+        self.acceleration_at_end = AccelerationAtEnd { q: self.q, v: self.v, acceleration };
     }
 
     /// `q += dq` with compensated summation.
@@ -214,7 +250,7 @@ fn compensated_add<const N: usize>(
 mod tests {
     use super::*;
     use crate::method::Integrator;
-    use crate::methods::{Dla, Dla01, Leapfrog};
+    use crate::methods::{Dla, Dla01, Leapfrog, Rk4};
     use crate::systems::{CvtPendulum, MobileRobot};
 
     /// Steps with the remembered `∇V`, `A` against steps that evaluate them afresh.
@@ -233,6 +269,7 @@ mod tests {
             used += usize::from(kept.at_end.q == kept.q);
             m.step(sys, &mut kept, h).unwrap();
             fresh.at_end = AtEnd::empty();
+            fresh.acceleration_at_end = AccelerationAtEnd::empty();
             m.step(sys, &mut fresh, h).unwrap();
             gap = gap.max((kept.q - fresh.q).amax()).max((kept.v - fresh.v).amax());
         }
@@ -253,6 +290,9 @@ mod tests {
         let dla = Dla { alpha: 0.4, ..Dla::default() };
         assert!(remembered_vs_fresh(&pendulum, &dla, 0.1) < 1e-12);
         assert!(remembered_vs_fresh(&MobileRobot, &Dla::default(), 0.05) < 1e-12);
+        // RK4's first stage is the q̈ its last step ended with, computed the same way.
+        assert_eq!(remembered_vs_fresh(&pendulum, &Rk4, 0.1), 0.0);
+        assert_eq!(remembered_vs_fresh(&MobileRobot, &Rk4, 0.05), 0.0);
     }
 
     #[test]
@@ -272,5 +312,10 @@ mod tests {
         st.q[2] += 0.25;
         assert_eq!(st.gradient(&sys), sys.gradient(&st.q));
         assert_eq!(st.gradient_and_constraint(&sys).1, sys.constraint(st.q[2]));
+        // q̈ depends on q̇ too: a velocity changed from outside forgets it.
+        Rk4.step(&sys, &mut st, 0.1).unwrap();
+        assert!(st.acceleration().is_some());
+        st.v[0] += 0.5;
+        assert_eq!(st.acceleration(), None);
     }
 }

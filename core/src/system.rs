@@ -112,6 +112,9 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     /// of MATH.md §1. The coupled fast paths of the implicit methods rely on it: with the
     /// driver solved alone, the passenger update is then one linear solve.
     const QUADRATIC_PASSENGER: bool = false;
+    /// Whether ζ is an angle: `A` and `V_d` are 2π-periodic in it (U never depends on ζ).
+    /// The reference solve then keeps ζ near 0 by whole turns, which keeps its rounding small.
+    const ZETA_IS_ANGLE: bool = false;
     /// Whether `V_d` is 2π-periodic, so that a rotating driver returns to its section.
     fn driver_is_periodic(&self) -> bool {
         false
@@ -160,14 +163,25 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     /// `(q, q̇)`; `None` when `A Aᵀ` is singular.
     #[inline]
     fn acceleration(&self, q: &Vector<N>, v: &Vector<N>) -> Option<(Vector<N>, Vector<R>)> {
-        let lambda = self.continuous_multiplier(q, v)?;
-        Some((self.constraint(q[N - 1]).transpose() * lambda - self.gradient(q), lambda))
+        let (g, a) = (self.gradient(q), self.constraint(q[N - 1]));
+        let lambda = self.continuous_multiplier_with(q, v, &g, &a)?;
+        Some((a.transpose() * lambda - g, lambda))
     }
     /// The continuous multiplier of MATH.md §1: `A Aᵀ λ = A ∇V − Ȧ q̇`.
     fn continuous_multiplier(&self, q: &Vector<N>, v: &Vector<N>) -> Option<Vector<R>> {
-        let a = self.constraint(q[N - 1]);
+        self.continuous_multiplier_with(q, v, &self.gradient(q), &self.constraint(q[N - 1]))
+    }
+    /// [`System::continuous_multiplier`] given `∇V(q)` and `A(q)`.
+    #[inline]
+    fn continuous_multiplier_with(
+        &self,
+        q: &Vector<N>,
+        v: &Vector<N>,
+        gradient: &Vector<N>,
+        a: &Matrix<R, N>,
+    ) -> Option<Vector<R>> {
         let a_dot = self.constraint_d(q[N - 1]) * v[N - 1];
-        let rhs = a * self.gradient(q) - a_dot * v;
+        let rhs = a * gradient - a_dot * v;
         crate::linalg::solve(&(a * a.transpose()), &rhs)
     }
 }

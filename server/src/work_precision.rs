@@ -76,7 +76,8 @@ pub struct WorkPrecisionResponse {
     pub rows: Vec<WorkPrecisionRow>,
 }
 
-/// The Dop853 reference solution at t_end (relative and absolute tolerance 1e-13).
+/// The Dop853 reference solution at t_end (relative and absolute tolerance 1e-15; an angle ζ
+/// kept near 0 by whole turns, restarting every time unit).
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
 pub struct ReferenceView {
     /// Its compute time, in milliseconds (when it was computed, for a cached one).

@@ -40,7 +40,11 @@ impl Integrator for Rk4 {
     ) -> Result<(), StepFailure> {
         let f = |q, v| sys.acceleration(&q, &v).map(|(a, _)| a).ok_or(StepFailure::Singular);
         let (q0, v0) = (st.q, st.v);
-        let a1 = f(q0, v0)?;
+        // First same as last: the previous step ended with q̈ here.
+        let a1 = match st.acceleration() {
+            Some(a) => a,
+            None => f(q0, v0)?,
+        };
         let (q2, v2) = (q0 + 0.5 * h * v0, v0 + 0.5 * h * a1);
         let a2 = f(q2, v2)?;
         let (q3, v3) = (q0 + 0.5 * h * v2, v0 + 0.5 * h * a2);
@@ -51,7 +55,15 @@ impl Integrator for Rk4 {
             h / 6.0 * (v0 + 2.0 * v2 + 2.0 * v3 + v4),
             h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
         );
-        st.lambda = sys.continuous_multiplier(&st.q, &st.v).ok_or(StepFailure::Singular)?;
+        // The multiplier at q₁ (the state carries it), and with it q̈ for the next step and
+        // ∇V, A, V_d for the integrals there: one evaluation, one sin/cos.
+        let (q1, v1, zeta) = (st.q, st.v, st.q[N - 1]);
+        let (g, a) = (sys.gradient(&q1), sys.constraint(zeta));
+        let lambda = sys.continuous_multiplier_with(&q1, &v1, &g, &a);
+        let v_d = sys.driver_potential(zeta);
+        st.lambda = lambda.ok_or(StepFailure::Singular)?;
+        st.remember_acceleration(a.transpose() * st.lambda - g);
+        st.remember_at_end(g, a, v_d);
         Ok(())
     }
 }

@@ -61,6 +61,7 @@ static INFO: SystemInfo = SystemInfo {
 
 impl System<3, 1> for CvtPendulum {
     const QUADRATIC_PASSENGER: bool = true;
+    const ZETA_IS_ANGLE: bool = true;
     fn info() -> &'static SystemInfo {
         &INFO
     }
