@@ -2,8 +2,9 @@
 """The paper's whole figure set through POST /simulate (issue 4).
 
 Six JSON requests, each with the default methods (the paper's five), every integral and
-1000 points: knife_edge `paper`, `paper-perturbed`; cvt_pendulum `oscillating`, `rotating`,
-`oscillating-perturbed`, `rotating-perturbed`. Against the release server on loopback
+1000 points: the paper's experiments as `GET /systems` lists them (`paper_scenes`: knife_edge
+`paper`, `paper-perturbed`; cvt_pendulum `oscillating`, `rotating`, `oscillating-perturbed`,
+`rotating-perturbed`). Against the release server on loopback
 (ephemeral port unless --port) with default settings (--max-simulations = the number of
 cores), per repetition:
 
@@ -38,15 +39,12 @@ import time
 
 from nhlab_bench import ROOT, Quiet, Server, build, cpu_seconds, log, median, other_load
 
-SCENES = [
-    ("knife_edge", "paper"),
-    ("knife_edge", "paper-perturbed"),
-    ("cvt_pendulum", "oscillating"),
-    ("cvt_pendulum", "rotating"),
-    ("cvt_pendulum", "oscillating-perturbed"),
-    ("cvt_pendulum", "rotating-perturbed"),
-]
-BODIES = [{"system": s, "preset": p} for s, p in SCENES]
+
+
+def bodies(server):
+    """The six requests, from the server's list of the paper's experiments (`GET /systems`)."""
+    return [{"system": s["system"], "preset": s["preset"]}
+            for s in server.get("/systems")["paper_scenes"]]
 
 
 def one(server, body, out, i):
@@ -68,15 +66,15 @@ def parse(raw):
     return [r["elapsed_ms"] for r in runs], sum(r["steps"] for r in runs), len(raw)
 
 
-def the_set(server, width):
+def the_set(server, width, requests):
     """Sends the six requests, `width` at a time; returns (wall s, per-request results)."""
-    out = [None] * len(BODIES)
+    out = [None] * len(requests)
     if width == 1:
         t0 = time.perf_counter()
-        for i, b in enumerate(BODIES):
+        for i, b in enumerate(requests):
             one(server, b, out, i)
         return time.perf_counter() - t0, [parse(raw) for raw in out]
-    queue = list(range(len(BODIES)))
+    queue = list(range(len(requests)))
     lock = threading.Lock()
     errors = []
     barrier = threading.Barrier(width + 1)
@@ -89,7 +87,7 @@ def the_set(server, width):
                     return
                 i = queue.pop(0)
             try:
-                one(server, BODIES[i], out, i)
+                one(server, requests[i], out, i)
             except Exception as e:  # noqa: BLE001 (reported below)
                 errors.append(e)
                 return
@@ -108,13 +106,14 @@ def the_set(server, width):
 
 
 def measure(server, width, reps, quiet):
-    the_set(server, width)  # warm-up
+    requests = bodies(server)
+    the_set(server, width, requests)  # warm-up
     walls, sums, maxes, steps = [], [], [], None
     cpu = 0.0
     for _ in range(reps):
         quiet.wait()
         c0 = cpu_seconds(server.pid)
-        wall, out = the_set(server, width)
+        wall, out = the_set(server, width, requests)
         cpu += cpu_seconds(server.pid) - c0
         walls.append(wall)
         sums.append(sum(sum(ms) for ms, _, _ in out) / 1e3)

@@ -58,7 +58,8 @@ pub use slot::Slot;
 pub use state::AppState;
 pub use stream::stream;
 pub use systems::{
-    LimitsView, MethodInfoView, ParamView, PresetView, SystemView, SystemsResponse, systems,
+    LimitsView, MethodInfoView, PaperScene, ParamView, PresetView, SystemView, SystemsResponse,
+    systems,
 };
 pub use verdict_view::{CRITERION, VerdictView, Verdicts};
 pub use work_precision::{WorkPrecisionRequest, WorkPrecisionResponse, work_precision};

@@ -1,11 +1,11 @@
 //! [`SystemsResponse`]: `GET /systems`, everything a client needs to build a request: the
 //! systems with their parameters, integrals and presets (the paper's experiments), the
-//! methods with theirs, the default methods and the server's limits.
+//! methods with theirs, the default methods, the paper's experiments and the server's limits.
 
 use crate::{AppState, Config, MethodView};
 use axum::Json;
 use axum::extract::State;
-use nhlab_core::{Method, ParamSpec, Preset, SYSTEMS, SystemEntry, method_infos};
+use nhlab_core::{Method, PAPER_SCENES, ParamSpec, Preset, SYSTEMS, SystemEntry, method_infos};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use utoipa::ToSchema;
@@ -19,8 +19,19 @@ pub struct SystemsResponse {
     pub methods: Vec<MethodInfoView>,
     /// The methods run when a request names none (the paper's five).
     pub default_methods: Vec<MethodView>,
+    /// The paper's six experiments (the scorecard's default scenes), in the paper's order.
+    pub paper_scenes: Vec<PaperScene>,
     /// The server's limits.
     pub limits: LimitsView,
+}
+
+/// One of the paper's experiments: a system and one of its presets.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct PaperScene {
+    /// System id.
+    pub system: String,
+    /// Preset id.
+    pub preset: String,
 }
 
 /// A system.
@@ -181,6 +192,13 @@ impl SystemsResponse {
                 })
                 .collect(),
             default_methods: Method::paper_five().iter().map(MethodView::of).collect(),
+            paper_scenes: PAPER_SCENES
+                .iter()
+                .map(|(system, preset)| PaperScene {
+                    system: (*system).into(),
+                    preset: (*preset).into(),
+                })
+                .collect(),
             limits: LimitsView {
                 max_steps_json: config.max_steps_json,
                 max_steps_stream: config.max_steps_stream,

@@ -54,6 +54,18 @@ async fn systems_lists_systems_presets_and_methods() {
     for p in ["oscillating", "rotating", "oscillating-perturbed", "rotating-perturbed"] {
         assert!(presets("cvt_pendulum").contains(&p.to_owned()), "{p}");
     }
+    // The paper's six experiments, each a system's preset.
+    let paper: Vec<(String, String)> = body["paper_scenes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| (s["system"].as_str().unwrap().into(), s["preset"].as_str().unwrap().into()))
+        .collect();
+    assert_eq!(paper.len(), 6, "{paper:?}");
+    assert_eq!(paper[0], ("knife_edge".to_owned(), "paper".to_owned()));
+    for (system, preset) in &paper {
+        assert!(presets(system).contains(preset), "{system}/{preset}");
+    }
     for system in systems {
         for key in ["name", "description", "dof", "constraints", "params", "integrals", "presets"] {
             assert!(!system[key].is_null(), "{} lacks {key}", system["id"]);
