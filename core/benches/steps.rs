@@ -4,16 +4,26 @@
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use nhlab_core::methods::{Dla, Dla01};
 use nhlab_core::systems::*;
-use nhlab_core::{Method, Observer, RunConfig, Scene, SceneRequest, State, System, Vector};
+use nhlab_core::{
+    Method, MethodSpec, Observer, RunConfig, Scene, SceneRequest, State, System, Vector,
+    method_infos,
+};
 use std::hint::black_box;
 
 const STEPS: u64 = 10_000;
 
-/// The paper's five (implicit ones on their coupled fast paths), then the implicit ones on
-/// their general Newton paths, so that one run gives the fast/general ratio (issue 4).
+/// Every registered method: the paper's five first (implicit ones on their coupled fast
+/// paths), then the others (DD-AVF, RK4), then the implicit ones on their general Newton
+/// paths, so that one run gives the fast/general ratio (issue 4).
 fn methods() -> Vec<(String, Method)> {
     let mut out: Vec<(String, Method)> =
         Method::paper_five().iter().map(|m| (m.label(), *m)).collect();
+    for info in method_infos() {
+        if !out.iter().any(|(_, m)| m.info().id == info.id) {
+            let m = Method::from_spec(&MethodSpec::new(info.id)).expect("registered method");
+            out.push((m.label(), m));
+        }
+    }
     for m in Method::paper_five() {
         let general = match m {
             Method::Dla(d) => Method::Dla(Dla { fast_path: false, ..d }),
