@@ -10,6 +10,7 @@
 //! `shared/MATH.md` of the project is the specification; names follow the paper.
 #![warn(missing_docs)]
 
+pub(crate) mod angle_tracker;
 pub mod bucket;
 pub mod classify;
 pub mod error;
@@ -42,7 +43,7 @@ pub use registry::{
 pub use scene::{PreparedScene, Scene, SceneRequest};
 pub use simulate::{Collect, Observer, Problem, RunConfig, RunOutcome};
 pub use state::State;
-pub use system::{ParamSpec, Preset, System, SystemInfo};
+pub use system::{DriverTerms, ParamSpec, Preset, System, SystemInfo};
 
 /// A column vector of fixed size: the numerics never allocate per step.
 pub type Vector<const N: usize> = nalgebra::SVector<f64, N>;

@@ -82,6 +82,21 @@ pub struct SystemInfo {
     pub presets: &'static [Preset],
 }
 
+/// Everything in a system that depends on the driver ζ, at one ζ.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DriverTerms<const N: usize, const R: usize> {
+    /// `A(ζ)`.
+    pub constraint: Matrix<R, N>,
+    /// `dA/dζ`.
+    pub constraint_d: Matrix<R, N>,
+    /// `V_d(ζ)`.
+    pub potential: f64,
+    /// `V_d'(ζ)`.
+    pub potential_d1: f64,
+    /// `V_d''(ζ)`.
+    pub potential_d2: f64,
+}
+
 /// A nonholonomically coupled system with `N` coordinates and `R` constraints.
 pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static {
     /// Its description.
@@ -118,6 +133,27 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     /// Whether `V_d` is 2π-periodic, so that a rotating driver returns to its section.
     fn driver_is_periodic(&self) -> bool {
         false
+    }
+
+    /// [`DriverTerms`] at ζ.
+    #[inline]
+    fn driver_terms(&self, zeta: f64) -> DriverTerms<N, R> {
+        DriverTerms {
+            constraint: self.constraint(zeta),
+            constraint_d: self.constraint_d(zeta),
+            potential: self.driver_potential(zeta),
+            potential_d1: self.driver_potential_d1(zeta),
+            potential_d2: self.driver_potential_d2(zeta),
+        }
+    }
+    /// [`DriverTerms`] at ζ given `sin ζ` and `cos ζ`. A system whose ζ is an angle
+    /// (`ZETA_IS_ANGLE`) computes them from these, so that a Newton iteration can carry the
+    /// sine and cosine from one iterate to the next by a small rotation instead of calling
+    /// `sin_cos` (`AngleTracker`); the others ignore them.
+    #[inline]
+    fn driver_terms_trig(&self, zeta: f64, sin: f64, cos: f64) -> DriverTerms<N, R> {
+        let _ = (sin, cos);
+        self.driver_terms(zeta)
     }
 
     /// Total potential `V = U + V_d`.

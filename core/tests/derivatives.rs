@@ -1,6 +1,6 @@
 //! Every system's hand-written derivatives against central finite differences, its kernel
-//! against its constraint, its presets against the constraints, and the periodicity in ζ that
-//! `ZETA_IS_ANGLE` declares.
+//! against its constraint, its presets against the constraints, the periodicity in ζ that
+//! `ZETA_IS_ANGLE` declares, and its driver terms from sin/cos against the plain functions.
 
 mod common;
 use nhlab_core::{Matrix, System, Vector};
@@ -34,6 +34,21 @@ fn check<S: System<N, R>, const N: usize, const R: usize>() {
             let z = q[N - 1];
             let fd_a = (sys.constraint(z + H) - sys.constraint(z - H)) / (2.0 * H);
             assert!((fd_a - sys.constraint_d(z)).amax() < TOL, "{id}: dA/dζ at {z}");
+            // The driver's terms the implicit steps take from a tracked sin/cos are the same
+            // functions, to the bit.
+            let terms = sys.driver_terms(z);
+            let (s, c) = z.sin_cos();
+            assert_eq!(sys.driver_terms_trig(z, s, c), terms, "{id}: driver_terms_trig at {z}");
+            assert_eq!(
+                (terms.constraint, terms.constraint_d),
+                (sys.constraint(z), sys.constraint_d(z)),
+                "{id}: driver_terms' A at {z}"
+            );
+            assert_eq!(
+                [terms.potential, terms.potential_d1, terms.potential_d2],
+                [sys.driver_potential(z), sys.driver_potential_d1(z), sys.driver_potential_d2(z)],
+                "{id}: driver_terms' V_d at {z}"
+            );
             let a: Matrix<R, N> = sys.constraint(z);
             assert!(a.column(N - 1).amax() == 0.0, "{id}: A must not involve ζ̇");
             let k = sys.kernel(z);

@@ -4,9 +4,10 @@
 //! preserve the fibration: through `|Δq|²` the driver's update sees the passenger.
 //! Implicit in `(q̇₁, λ)`, solved by Newton with the exact Jacobian derived below.
 
+use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::{Linearization, NewtonConfig, solve};
-use crate::system::System;
+use crate::system::{DriverTerms, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector};
 
 /// The discrete-derivative method.
@@ -26,27 +27,35 @@ static INFO: MethodInfo = MethodInfo {
 };
 
 /// Gonzalez's discrete gradient `∇̄V(q₀, q₁)` and its derivative with respect to `q̇₁`
-/// (where `q₁ = q₀ + (h/2)(q̇₀ + q̇₁)`, so `dΔq = (h/2) dq̇₁`, `dq̄ = (h/4) dq̇₁`).
+/// (where `q₁ = q₀ + (h/2)(q̇₀ + q̇₁)`, so `dΔq = (h/2) dq̇₁`, `dq̄ = (h/4) dq̇₁`), given the
+/// driver's terms at `ζ̄`; those at `ζ₁` come from `end`, which follows ζ₁ along Newton's
+/// iterates.
 #[inline]
 fn discrete_gradient<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
-    q0: &Vector<N>,
-    v_q0: f64,
+    (q0, v_q0): (&Vector<N>, f64),
     dq: &Vector<N>,
     h: f64,
+    mid: &DriverTerms<N, R>,
+    end: &mut AngleTracker,
 ) -> (Vector<N>, Matrix<N, N>) {
     let q_mid = q0 + 0.5 * dq;
-    let g_mid = sys.gradient(&q_mid);
-    let hess_mid = sys.hessian(&q_mid);
+    let mut g_mid = sys.passenger_gradient(&q_mid);
+    g_mid[N - 1] = mid.potential_d1;
+    let mut hess_mid = sys.passenger_hessian(&q_mid);
+    hess_mid[(N - 1, N - 1)] = mid.potential_d2;
     let dq2 = dq.norm_squared();
     if dq2 == 0.0 {
         return (g_mid, hess_mid * (0.25 * h));
     }
     let q1 = q0 + dq;
-    let c = sys.potential(&q1) - v_q0 - g_mid.dot(dq);
+    let at_q1 = end.terms(sys, q1[N - 1]);
+    let c = sys.passenger_potential(&q1) + at_q1.potential - v_q0 - g_mid.dot(dq);
+    let mut g1 = sys.passenger_gradient(&q1);
+    g1[N - 1] = at_q1.potential_d1;
     let u = dq / dq2;
     // dc/dq̇₁ = (h/2) [∇V(q₁) − ∇V(q̄) − ½ ∇²V(q̄) Δq]
-    let dc = (sys.gradient(&q1) - g_mid - 0.5 * (hess_mid * dq)) * (0.5 * h);
+    let dc = (g1 - g_mid - 0.5 * (hess_mid * dq)) * (0.5 * h);
     // d(Δq/|Δq|²)/dq̇₁ = (h/2) (I − 2 Δq Δqᵀ/|Δq|²) / |Δq|²
     let du = (Matrix::<N, N>::identity() - 2.0 * (dq * u.transpose())) * (0.5 * h / dq2);
     let grad = g_mid + c * u;
@@ -73,14 +82,16 @@ impl Integrator for Dd {
     ) -> Result<(), StepFailure> {
         let v_q0 = sys.passenger_potential(&st.q) + st.driver_potential_and_constraint(sys).0;
         let q0 = st.q;
-        discrete_derivative_step(sys, st, h, &self.newton, |dq| {
-            discrete_gradient(sys, &q0, v_q0, dq, h)
+        discrete_derivative_step(sys, st, h, &self.newton, |dq, mid, end| {
+            discrete_gradient(sys, (&q0, v_q0), dq, h, mid, end)
         })
     }
 }
 
 /// One step of the discrete-derivative family (MATH.md §3) for a given discrete gradient:
-/// `gradient(Δq)` returns `∇̄V(q₀, q₀ + Δq)` and its derivative with respect to `q̇₁`.
+/// `gradient(Δq, terms at ζ̄, tracker of ζ₁)` returns `∇̄V(q₀, q₀ + Δq)` and its derivative
+/// with respect to `q̇₁`; if it evaluates the driver at ζ₁ through the tracker, the terms at
+/// the step's end follow from its last iterate by a tiny rotation.
 /// Shared by `dd` (Gonzalez) and `dd_avf` (average vector field).
 #[inline]
 pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R: usize>(
@@ -88,19 +99,24 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
     st: &mut State<N, R>,
     h: f64,
     newton: &NewtonConfig,
-    gradient: impl Fn(&Vector<N>) -> (Vector<N>, Matrix<N, N>),
+    mut gradient: impl FnMut(
+        &Vector<N>,
+        &DriverTerms<N, R>,
+        &mut AngleTracker,
+    ) -> (Vector<N>, Matrix<N, N>),
 ) -> Result<(), StepFailure> {
     let (q0, v0) = (st.q, st.v);
     let (g0, a0) = st.gradient_and_constraint(sys);
     let mut v1 = v0 + h * (a0.transpose() * st.lambda - g0);
     let mut lambda = st.lambda;
+    let (mut mid, mut end) = (AngleTracker::new(), AngleTracker::new());
     solve(newton, &mut v1, &mut lambda, |v1, lambda| {
         let s = v0 + v1;
         let dq = s * (0.5 * h);
         let z_mid = q0[N - 1] + 0.5 * dq[N - 1];
-        let a_mid = sys.constraint(z_mid);
-        let da_mid = sys.constraint_d(z_mid);
-        let (grad, jac) = gradient(&dq);
+        let at_mid = mid.terms(sys, z_mid);
+        let (a_mid, da_mid) = (at_mid.constraint, at_mid.constraint_d);
+        let (grad, jac) = gradient(&dq, &at_mid, &mut end);
         let mut b = Matrix::<N, N>::identity() + jac * h;
         // −h A(q̄)ᵀλ depends on q̇₁ through ζ̄ (dζ̄ = (h/4) dζ̇₁).
         let dforce = da_mid.transpose() * lambda * (-h * 0.25 * h);
@@ -122,8 +138,10 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
     })?;
     st.advance_to((v0 + v1) * (0.5 * h), v1);
     st.lambda = lambda;
-    // What the next step starts from and the integrals at q₁ need, from one sin/cos.
-    let zeta = st.q[N - 1];
-    st.remember_at_end(sys.gradient(&st.q), sys.constraint(zeta), sys.driver_potential(zeta));
+    // What the next step starts from and the integrals at q₁ need.
+    let at_q1 = end.terms(sys, st.q[N - 1]);
+    let mut g1 = sys.passenger_gradient(&st.q);
+    g1[N - 1] = at_q1.potential_d1;
+    st.remember_at_end(g1, at_q1.constraint, at_q1.potential);
     Ok(())
 }

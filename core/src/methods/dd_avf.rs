@@ -9,6 +9,7 @@
 //! driver alone, so the method can preserve the fibration while conserving H.
 
 use super::dd::discrete_derivative_step;
+use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::NewtonConfig;
 use crate::system::System;
@@ -52,6 +53,7 @@ fn avf_gradient<S: System<N, R>, const N: usize, const R: usize>(
     q0: &Vector<N>,
     vd0: f64,
     dq: &Vector<N>,
+    end: &mut AngleTracker,
 ) -> (Vector<N>, Matrix<N, N>) {
     let mut grad = Vector::<N>::zeros();
     let mut jac = Matrix::<N, N>::zeros();
@@ -62,9 +64,9 @@ fn avf_gradient<S: System<N, R>, const N: usize, const R: usize>(
     }
     let (z0, dz) = (q0[N - 1], dq[N - 1]);
     let (g, dg) = if dz.abs() >= CLOSED_FORM_MIN {
-        let z1 = z0 + dz;
-        let g = (sys.driver_potential(z1) - vd0) / dz;
-        (g, (sys.driver_potential_d1(z1) - g) / dz)
+        let at_z1 = end.terms(sys, z0 + dz);
+        let g = (at_z1.potential - vd0) / dz;
+        (g, (at_z1.potential_d1 - g) / dz)
     } else {
         GL4.iter().fold((0.0, 0.0), |(g, dg), &(s, w)| {
             let z = z0 + s * dz;
@@ -94,10 +96,10 @@ impl Integrator for DdAvf {
         h: f64,
     ) -> Result<(), StepFailure> {
         let q0 = st.q;
-        let vd0 = sys.driver_potential(q0[N - 1]);
-        discrete_derivative_step(sys, st, h, &self.newton, |dq| {
+        let vd0 = st.driver_potential_and_constraint(sys).0;
+        discrete_derivative_step(sys, st, h, &self.newton, |dq, _, end| {
             // dq₁/dq̇₁ = (h/2) I.
-            let (grad, jac) = avf_gradient(sys, &q0, vd0, dq);
+            let (grad, jac) = avf_gradient(sys, &q0, vd0, dq, end);
             (grad, jac * (0.5 * h))
         })
     }

@@ -8,9 +8,10 @@
 //! Newton solve; with ζ₁ known and `∇U` affine, the passenger update is one linear saddle
 //! solve. Same equations, same result to round-off, without the N×N Newton iterations.
 
+use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::{Linearization, NewtonConfig, solve, solve_scalar};
-use crate::system::{ParamSpec, System};
+use crate::system::{DriverTerms, ParamSpec, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector, linalg};
 
 /// DLA^α.
@@ -83,19 +84,24 @@ impl Integrator for Dla {
         // Explicit Euler guess; Newton then needs a few iterations.
         let mut v1 = v0 + h * (a_qa.transpose() * st.lambda - g0);
         let mut lambda = st.lambda;
+        let mut tracker = AngleTracker::new();
         solve(&self.newton, &mut v1, &mut lambda, |v1, lambda| {
             let q1 = q_a + a * h * v1;
-            let z1 = q1[N - 1];
-            let a1 = sys.constraint(z1);
+            let at_q1 = tracker.terms(sys, q1[N - 1]);
+            let a1 = at_q1.constraint;
             let mut c = a1;
-            let dcol = sys.constraint_d(z1) * v1 * (a * h);
+            let dcol = at_q1.constraint_d * v1 * (a * h);
             for r in 0..R {
                 c[(r, N - 1)] += dcol[r];
             }
+            let mut g1 = sys.passenger_gradient(&q1);
+            g1[N - 1] = at_q1.potential_d1;
+            let mut hess1 = sys.passenger_hessian(&q1);
+            hess1[(N - 1, N - 1)] = at_q1.potential_d2;
             Linearization {
-                f1: v1 - v0 + a * h * g0 + (1.0 - a) * h * sys.gradient(&q1) + g * lambda,
+                f1: v1 - v0 + a * h * g0 + (1.0 - a) * h * g1 + g * lambda,
                 f2: a1 * v1,
-                b: Matrix::<N, N>::identity() + (1.0 - a) * a * h * h * sys.hessian(&q1),
+                b: Matrix::<N, N>::identity() + (1.0 - a) * a * h * h * hess1,
                 g,
                 c,
             }
@@ -124,19 +130,21 @@ impl Dla {
         // Driver alone: F(w) = w − ζ̇₀ + αh V_d'(ζ₀) + (1−α)h V_d'(ζ_a + αh w) = 0.
         let rhs = st.v[N - 1] - a * h * g0[N - 1];
         let mut w = rhs - b * h * g0[N - 1];
-        // A, A', V_d, V_d', V_d'' at the last iterate share one sin/cos; A(ζ₁) at the solution
+        // A, A', V_d, V_d', V_d'' at an iterate share one sin/cos (after the first iterate,
+        // rotated from the previous one's: `AngleTracker`); A(ζ₁) at the solution
         // is then one Taylor step away when the last increment is tiny, and so are the
         // values at the stored ζ₁ that the next step and the integrals use.
-        let mut last = None;
+        let (mut last, mut tracker) = (None, AngleTracker::new());
         solve_scalar(&self.newton, &mut w, |w| {
-            let at = Taylor::at(sys, z_a + a * h * w);
-            let value_slope = (w - rhs + b * h * at.d1, 1.0 + a * b * h * h * at.d2);
+            let at = Taylor::at(sys, &mut tracker, z_a + a * h * w);
+            let value_slope =
+                (w - rhs + b * h * at.at.potential_d1, 1.0 + a * b * h * h * at.at.potential_d2);
             last = Some(at);
             value_slope
         })?;
         let z1 = z_a + a * h * w;
         // Newton evaluated at least once if it succeeded; the fallback is never taken.
-        let last = last.unwrap_or_else(|| Taylor::at(sys, z1));
+        let last = last.unwrap_or_else(|| Taylor::at(sys, &mut tracker, z1));
         let a1 = last.constraint(sys, z1);
         // Passenger, with ∇U(q₁) = ∇U(q_a) + αh K q̇₁ exact for quadratic U:
         // (I + α(1−α)h²K) q̇₁ − h A_aᵀλ = q̇₀ − αh∇V(q₀) − (1−α)h∇U(q_a), A(ζ₁) q̇₁ = 0.
@@ -164,24 +172,13 @@ impl Dla {
 /// `|V_d'''| dz²/2`, `|V_d'''| dz³/6`) are below 10⁻¹⁵; farther away they are evaluated.
 struct Taylor<const N: usize, const R: usize> {
     zeta: f64,
-    a: Matrix<R, N>,
-    da: Matrix<R, N>,
-    v: f64,
-    d1: f64,
-    d2: f64,
+    at: DriverTerms<N, R>,
 }
 
 impl<const N: usize, const R: usize> Taylor<N, R> {
     #[inline]
-    fn at<S: System<N, R>>(sys: &S, zeta: f64) -> Self {
-        Self {
-            zeta,
-            a: sys.constraint(zeta),
-            da: sys.constraint_d(zeta),
-            v: sys.driver_potential(zeta),
-            d1: sys.driver_potential_d1(zeta),
-            d2: sys.driver_potential_d2(zeta),
-        }
+    fn at<S: System<N, R>>(sys: &S, tracker: &mut AngleTracker, zeta: f64) -> Self {
+        Self { zeta, at: tracker.terms(sys, zeta) }
     }
     #[inline]
     fn near(&self, zeta: f64) -> Option<f64> {
@@ -190,17 +187,23 @@ impl<const N: usize, const R: usize> Taylor<N, R> {
     }
     #[inline]
     fn constraint<S: System<N, R>>(&self, sys: &S, zeta: f64) -> Matrix<R, N> {
-        self.near(zeta).map_or_else(|| sys.constraint(zeta), |dz| self.a + self.da * dz)
+        let t = &self.at;
+        self.near(zeta)
+            .map_or_else(|| sys.constraint(zeta), |dz| t.constraint + t.constraint_d * dz)
     }
     #[inline]
     fn d1<S: System<N, R>>(&self, sys: &S, zeta: f64) -> f64 {
-        self.near(zeta).map_or_else(|| sys.driver_potential_d1(zeta), |dz| self.d1 + self.d2 * dz)
+        let t = &self.at;
+        self.near(zeta).map_or_else(
+            || sys.driver_potential_d1(zeta),
+            |dz| t.potential_d1 + t.potential_d2 * dz,
+        )
     }
     #[inline]
     fn potential<S: System<N, R>>(&self, sys: &S, zeta: f64) -> f64 {
         self.near(zeta).map_or_else(
             || sys.driver_potential(zeta),
-            |dz| self.v + dz * (self.d1 + 0.5 * self.d2 * dz),
+            |dz| self.at.potential + dz * (self.at.potential_d1 + 0.5 * self.at.potential_d2 * dz),
         )
     }
 }

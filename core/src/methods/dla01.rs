@@ -7,6 +7,7 @@
 //! explicit, so is `ζ₁`, and λ follows from one R×R solve — the step becomes explicit, with
 //! the same result as Newton's to round-off.
 
+use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::{Linearization, NewtonConfig, solve};
 use crate::system::System;
@@ -84,11 +85,12 @@ impl Integrator for Dla01 {
         let g = a_half.transpose() * (-h);
         let mut v1 = w + h * (a_half.transpose() * st.lambda);
         let mut lambda = st.lambda;
+        let mut tracker = AngleTracker::new();
         solve(&self.newton, &mut v1, &mut lambda, |v1, lambda| {
-            let z1 = q_half[N - 1] + 0.5 * h * v1[N - 1];
-            let a1 = sys.constraint(z1);
+            let at_z1 = tracker.terms(sys, q_half[N - 1] + 0.5 * h * v1[N - 1]);
+            let a1 = at_z1.constraint;
             let mut c = a1;
-            let dcol = sys.constraint_d(z1) * v1 * (0.5 * h);
+            let dcol = at_z1.constraint_d * v1 * (0.5 * h);
             for r in 0..R {
                 c[(r, N - 1)] += dcol[r];
             }

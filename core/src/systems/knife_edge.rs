@@ -4,7 +4,7 @@
 //! potential, constraint `−sin ζ ẋ₁ + (cos ζ − ε) ẋ₂ = 0`. The perturbation ε breaks the
 //! reversibility that the paper credits for near conservation; |ε| < 1 keeps A of full rank.
 
-use crate::system::{ParamSpec, Preset, System, SystemInfo};
+use crate::system::{DriverTerms, ParamSpec, Preset, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -84,12 +84,25 @@ impl System<3, 1> for KnifeEdge {
         0.0
     }
     fn constraint(&self, zeta: f64) -> Matrix<1, 3> {
-        let (s, c) = zeta.sin_cos();
-        Matrix::<1, 3>::new(-s, c - self.epsilon, 0.0)
+        self.driver_terms(zeta).constraint
     }
     fn constraint_d(&self, zeta: f64) -> Matrix<1, 3> {
+        self.driver_terms(zeta).constraint_d
+    }
+    #[inline]
+    fn driver_terms(&self, zeta: f64) -> DriverTerms<3, 1> {
         let (s, c) = zeta.sin_cos();
-        Matrix::<1, 3>::new(-c, -s, 0.0)
+        self.driver_terms_trig(zeta, s, c)
+    }
+    #[inline]
+    fn driver_terms_trig(&self, _zeta: f64, s: f64, c: f64) -> DriverTerms<3, 1> {
+        DriverTerms {
+            constraint: Matrix::<1, 3>::new(-s, c - self.epsilon, 0.0),
+            constraint_d: Matrix::<1, 3>::new(-c, -s, 0.0),
+            potential: 0.0,
+            potential_d1: 0.0,
+            potential_d2: 0.0,
+        }
     }
     fn kernel(&self, zeta: f64) -> Vector<3> {
         let (s, c) = zeta.sin_cos();

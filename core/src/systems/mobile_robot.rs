@@ -3,8 +3,8 @@
 //! Same geometry as `rolling_disk`; the potential makes the heading a pendulum, so the
 //! driver is no longer uniform.
 
-use super::rolling_disk::{DISK_INTEGRALS, disk_constraint, disk_constraint_d, disk_kernel};
-use crate::system::{Preset, System, SystemInfo};
+use super::rolling_disk::{DISK_INTEGRALS, disk_kernel, disk_terms};
+use crate::system::{DriverTerms, Preset, System, SystemInfo};
 use crate::{Matrix, Vector};
 
 /// The mobile robot (no parameters).
@@ -47,19 +47,29 @@ impl System<4, 2> for MobileRobot {
         Matrix::zeros()
     }
     fn driver_potential(&self, zeta: f64) -> f64 {
-        zeta.sin()
+        self.driver_terms(zeta).potential
     }
     fn driver_potential_d1(&self, zeta: f64) -> f64 {
-        zeta.cos()
+        self.driver_terms(zeta).potential_d1
     }
     fn driver_potential_d2(&self, zeta: f64) -> f64 {
-        -zeta.sin()
+        self.driver_terms(zeta).potential_d2
     }
     fn constraint(&self, zeta: f64) -> Matrix<2, 4> {
-        disk_constraint(zeta)
+        self.driver_terms(zeta).constraint
     }
     fn constraint_d(&self, zeta: f64) -> Matrix<2, 4> {
-        disk_constraint_d(zeta)
+        self.driver_terms(zeta).constraint_d
+    }
+    #[inline]
+    fn driver_terms(&self, zeta: f64) -> DriverTerms<4, 2> {
+        let (s, c) = zeta.sin_cos();
+        self.driver_terms_trig(zeta, s, c)
+    }
+    // V_d = sin ζ.
+    #[inline]
+    fn driver_terms_trig(&self, _zeta: f64, s: f64, c: f64) -> DriverTerms<4, 2> {
+        disk_terms(s, c, [s, c, -s])
     }
     fn kernel(&self, zeta: f64) -> Vector<4> {
         disk_kernel(zeta)

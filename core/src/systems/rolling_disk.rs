@@ -5,23 +5,24 @@
 //! `ẋ₁ + cos ζ φ̇ = 0`, `ẋ₂ + sin ζ φ̇ = 0`. No potential, so the heading turns uniformly and
 //! the disk runs on a circle: an exact solution for the convergence tests.
 
-use crate::system::{Preset, System, SystemInfo};
+use crate::system::{DriverTerms, Preset, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 
 /// The vertical rolling disk (no parameters).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct RollingDisk;
 
-/// `A(ζ)` of a disk rolling without slipping.
-pub(crate) fn disk_constraint(zeta: f64) -> Matrix<2, 4> {
-    let (s, c) = zeta.sin_cos();
-    Matrix::<2, 4>::new(1.0, 0.0, c, 0.0, 0.0, 1.0, s, 0.0)
-}
-
-/// `dA/dζ` of the rolling disk.
-pub(crate) fn disk_constraint_d(zeta: f64) -> Matrix<2, 4> {
-    let (s, c) = zeta.sin_cos();
-    Matrix::<2, 4>::new(0.0, 0.0, -s, 0.0, 0.0, 0.0, c, 0.0)
+/// [`DriverTerms`] of a disk rolling without slipping, from `sin ζ` and `cos ζ`, with the
+/// heading potential's `[V_d, V_d', V_d'']`.
+#[inline]
+pub(crate) fn disk_terms(s: f64, c: f64, potential: [f64; 3]) -> DriverTerms<4, 2> {
+    DriverTerms {
+        constraint: Matrix::<2, 4>::new(1.0, 0.0, c, 0.0, 0.0, 1.0, s, 0.0),
+        constraint_d: Matrix::<2, 4>::new(0.0, 0.0, -s, 0.0, 0.0, 0.0, c, 0.0),
+        potential: potential[0],
+        potential_d1: potential[1],
+        potential_d2: potential[2],
+    }
 }
 
 /// The unit kernel `(−cos ζ, −sin ζ, 1)/√2` of the rolling disk.
@@ -78,10 +79,19 @@ impl System<4, 2> for RollingDisk {
         0.0
     }
     fn constraint(&self, zeta: f64) -> Matrix<2, 4> {
-        disk_constraint(zeta)
+        self.driver_terms(zeta).constraint
     }
     fn constraint_d(&self, zeta: f64) -> Matrix<2, 4> {
-        disk_constraint_d(zeta)
+        self.driver_terms(zeta).constraint_d
+    }
+    #[inline]
+    fn driver_terms(&self, zeta: f64) -> DriverTerms<4, 2> {
+        let (s, c) = zeta.sin_cos();
+        self.driver_terms_trig(zeta, s, c)
+    }
+    #[inline]
+    fn driver_terms_trig(&self, _zeta: f64, s: f64, c: f64) -> DriverTerms<4, 2> {
+        disk_terms(s, c, [0.0; 3])
     }
     fn kernel(&self, zeta: f64) -> Vector<4> {
         disk_kernel(zeta)
