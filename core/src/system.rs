@@ -97,6 +97,20 @@ pub struct DriverTerms<const N: usize, const R: usize> {
     pub potential_d2: f64,
 }
 
+/// The constraint force `Aᵀλ`. Its driver component is zero (A has no driver column), and is
+/// written as such rather than computed as `0·λ`: then the driver's update does not depend on
+/// λ, and the passenger's multiplier solve stays off the driver's chain of dependencies from
+/// step to step (the same numbers, unless λ is not finite, which the steps report anyway).
+#[inline]
+pub fn constraint_force<const N: usize, const R: usize>(
+    a: &Matrix<R, N>,
+    lambda: &Vector<R>,
+) -> Vector<N> {
+    let mut f = a.transpose() * lambda;
+    f[N - 1] = 0.0;
+    f
+}
+
 /// A nonholonomically coupled system with `N` coordinates and `R` constraints.
 pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static {
     /// Its description.
@@ -201,7 +215,7 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     fn acceleration(&self, q: &Vector<N>, v: &Vector<N>) -> Option<(Vector<N>, Vector<R>)> {
         let (g, a) = (self.gradient(q), self.constraint(q[N - 1]));
         let lambda = self.continuous_multiplier_with(q, v, &g, &a)?;
-        Some((a.transpose() * lambda - g, lambda))
+        Some((constraint_force(&a, &lambda) - g, lambda))
     }
     /// The continuous multiplier of MATH.md §1: `A Aᵀ λ = A ∇V − Ȧ q̇`.
     fn continuous_multiplier(&self, q: &Vector<N>, v: &Vector<N>) -> Option<Vector<R>> {

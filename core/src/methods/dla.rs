@@ -156,7 +156,11 @@ impl Dla {
         let (m_rhs, m_at) = (m_inv * rhs_v, m_inv * a_qa.transpose());
         let lambda =
             linalg::solve(&(a1 * m_at), &(a1 * m_rhs)).ok_or(StepFailure::Singular)? * (-1.0 / h);
-        let v1 = m_rhs + h * (m_at * lambda);
+        let mut v1 = m_rhs + h * (m_at * lambda);
+        // The driver speed is w (that row of the system reads q̇₁_ζ = w), and is written so:
+        // computed through M⁻¹ and λ it would be w to round-off, but would make the next
+        // step's driver wait for this step's passenger solve.
+        v1[N - 1] = w;
         st.advance_to((1.0 - a) * h * st.v + a * h * v1, v1);
         st.lambda = lambda;
         let zeta = st.q[N - 1];

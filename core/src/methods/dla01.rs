@@ -10,7 +10,7 @@
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::{Linearization, NewtonConfig, solve};
-use crate::system::System;
+use crate::system::{System, constraint_force};
 use crate::{InputError, Matrix, State, StepFailure, linalg};
 
 /// DLA^{0,1}.
@@ -72,7 +72,7 @@ impl Integrator for Dla01 {
             let lambda = linalg::solve(&(a1 * a_half.transpose()), &(a1 * w))
                 .ok_or(StepFailure::Singular)?
                 * (-1.0 / h);
-            let dv = h * (a_half.transpose() * lambda - g_half);
+            let dv = h * (constraint_force(&a_half, &lambda) - g_half);
             st.advance(h * st.v + (0.5 * h) * dv, dv);
             st.lambda = lambda;
             if st.q[N - 1] == z1 {

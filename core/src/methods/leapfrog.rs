@@ -5,7 +5,7 @@
 
 use crate::linalg;
 use crate::method::{Integrator, MethodInfo};
-use crate::system::System;
+use crate::system::{System, constraint_force};
 use crate::{InputError, State, StepFailure, Vector};
 
 /// Nonholonomic leap-frog (no parameters).
@@ -40,7 +40,7 @@ impl Integrator for Leapfrog {
         h: f64,
     ) -> Result<(), StepFailure> {
         let (g0, a0) = st.gradient_and_constraint(sys);
-        let dv_half = 0.5 * h * (a0.transpose() * st.lambda - g0);
+        let dv_half = 0.5 * h * (constraint_force(&a0, &st.lambda) - g0);
         let v_half = st.v + dv_half;
         // q₁ = q₀ + h q̇₀ + h Δq̇_½: q̇₀ enters last, as it is what the previous step just made.
         st.advance_q_parts(h * st.v, h * dv_half);
@@ -54,7 +54,7 @@ impl Integrator for Leapfrog {
         let solved = linalg::solve(&(a1 * a1.transpose()), &(a1 * w));
         let lambda1 = solved.unwrap_or(Vector::<R>::repeat(f64::NAN)) * (-2.0 / h);
         // q̇₁ = w + (h/2) A₁ᵀλ₁ = q̇₀ + Δq̇_½ + (h/2)(A₁ᵀλ₁ − ∇V(q₁)), as increments.
-        let kick = 0.5 * h * (a1.transpose() * lambda1 - g1);
+        let kick = 0.5 * h * (constraint_force(&a1, &lambda1) - g1);
         if !(kick.sum() + lambda1.sum()).is_finite() {
             return Err(if solved.is_none() {
                 StepFailure::Singular

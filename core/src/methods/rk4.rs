@@ -5,7 +5,7 @@
 //! constraint manifold, which the `constraint` series shows.
 
 use crate::method::{Integrator, MethodInfo};
-use crate::system::System;
+use crate::system::{System, constraint_force};
 use crate::{InputError, State, StepFailure};
 
 /// Classical RK4 (no parameters).
@@ -62,7 +62,7 @@ impl Integrator for Rk4 {
         let lambda = sys.continuous_multiplier_with(&q1, &v1, &g, &a);
         let v_d = sys.driver_potential(zeta);
         st.lambda = lambda.ok_or(StepFailure::Singular)?;
-        st.remember_acceleration(a.transpose() * st.lambda - g);
+        st.remember_acceleration(constraint_force(&a, &st.lambda) - g);
         st.remember_at_end(g, a, v_d);
         Ok(())
     }
