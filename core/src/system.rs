@@ -97,6 +97,23 @@ pub struct DriverTerms<const N: usize, const R: usize> {
     pub potential_d2: f64,
 }
 
+impl<const N: usize, const R: usize> DriverTerms<N, R> {
+    /// `∇V(q)`, with these terms taken at q's ζ.
+    #[inline]
+    pub fn gradient<S: System<N, R>>(&self, sys: &S, q: &Vector<N>) -> Vector<N> {
+        let mut g = sys.passenger_gradient(q);
+        g[N - 1] = self.potential_d1;
+        g
+    }
+    /// `∇²V(q)`, with these terms taken at q's ζ.
+    #[inline]
+    pub fn hessian<S: System<N, R>>(&self, sys: &S, q: &Vector<N>) -> Matrix<N, N> {
+        let mut h = sys.passenger_hessian(q);
+        h[(N - 1, N - 1)] = self.potential_d2;
+        h
+    }
+}
+
 /// The constraint force `Aᵀλ`. Its driver component is zero (A has no driver column), and is
 /// written as such rather than computed as `0·λ`: then the driver's update does not depend on
 /// λ, and the passenger's multiplier solve stays off the driver's chain of dependencies from

@@ -40,10 +40,7 @@ fn discrete_gradient<S: System<N, R>, const N: usize, const R: usize>(
     end: &mut AngleTracker,
 ) -> (Vector<N>, Matrix<N, N>) {
     let q_mid = q0 + 0.5 * dq;
-    let mut g_mid = sys.passenger_gradient(&q_mid);
-    g_mid[N - 1] = mid.potential_d1;
-    let mut hess_mid = sys.passenger_hessian(&q_mid);
-    hess_mid[(N - 1, N - 1)] = mid.potential_d2;
+    let (g_mid, hess_mid) = (mid.gradient(sys, &q_mid), mid.hessian(sys, &q_mid));
     let dq2 = dq.norm_squared();
     if dq2 == 0.0 {
         return (g_mid, hess_mid * (0.25 * h));
@@ -51,8 +48,7 @@ fn discrete_gradient<S: System<N, R>, const N: usize, const R: usize>(
     let q1 = q0 + dq;
     let at_q1 = end.terms(sys, q1[N - 1]);
     let c = sys.passenger_potential(&q1) + at_q1.potential - v_q0 - g_mid.dot(dq);
-    let mut g1 = sys.passenger_gradient(&q1);
-    g1[N - 1] = at_q1.potential_d1;
+    let g1 = at_q1.gradient(sys, &q1);
     let u = dq / dq2;
     // dc/dq̇₁ = (h/2) [∇V(q₁) − ∇V(q̄) − ½ ∇²V(q̄) Δq]
     let dc = (g1 - g_mid - 0.5 * (hess_mid * dq)) * (0.5 * h);
@@ -140,8 +136,6 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
     st.lambda = lambda;
     // What the next step starts from and the integrals at q₁ need.
     let at_q1 = end.terms(sys, st.q[N - 1]);
-    let mut g1 = sys.passenger_gradient(&st.q);
-    g1[N - 1] = at_q1.potential_d1;
-    st.remember_at_end(g1, at_q1.constraint, at_q1.potential);
+    st.remember_at_end(at_q1.gradient(sys, &st.q), at_q1.constraint, at_q1.potential);
     Ok(())
 }

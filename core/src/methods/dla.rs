@@ -94,14 +94,10 @@ impl Integrator for Dla {
             for r in 0..R {
                 c[(r, N - 1)] += dcol[r];
             }
-            let mut g1 = sys.passenger_gradient(&q1);
-            g1[N - 1] = at_q1.potential_d1;
-            let mut hess1 = sys.passenger_hessian(&q1);
-            hess1[(N - 1, N - 1)] = at_q1.potential_d2;
             Linearization {
-                f1: v1 - v0 + a * h * g0 + (1.0 - a) * h * g1 + g * lambda,
+                f1: v1 - v0 + a * h * g0 + (1.0 - a) * h * at_q1.gradient(sys, &q1) + g * lambda,
                 f2: a1 * v1,
-                b: Matrix::<N, N>::identity() + (1.0 - a) * a * h * h * hess1,
+                b: Matrix::<N, N>::identity() + (1.0 - a) * a * h * h * at_q1.hessian(sys, &q1),
                 g,
                 c,
             }
