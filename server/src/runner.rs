@@ -88,8 +88,22 @@ impl Runner {
         &self,
         plan: &Plan,
         index: usize,
-        mut observer: O,
+        observer: O,
     ) -> JoinHandle<Finished<O>> {
+        self.spawn_then(plan, index, observer, |finished| finished)
+    }
+
+    /// [`Runner::spawn`], then `then` on the same blocking thread once the run has ended
+    /// (outside its `elapsed_ms`). What an answer needs from a run (its JSON, its last
+    /// events) is made there, in parallel with the other runs, rather than after all of
+    /// them.
+    pub fn spawn_then<O: Observer + Send + 'static, T: Send + 'static>(
+        &self,
+        plan: &Plan,
+        index: usize,
+        mut observer: O,
+        then: impl FnOnce(Finished<O>) -> T + Send + 'static,
+    ) -> JoinHandle<T> {
         let guard = self.state.run_guard();
         let slot = self.slot.clone();
         #[cfg(debug_assertions)]
@@ -118,7 +132,7 @@ impl Runner {
                 message
             });
             let elapsed_ms = (start.elapsed().as_secs_f64() * 1e6).round() / 1e3;
-            Finished { index, outcome, elapsed_ms, observer }
+            then(Finished { index, outcome, elapsed_ms, observer })
         })
     }
 }

@@ -1,8 +1,9 @@
 //! [`stream`]: the server-sent-event answer to `POST /simulate` with
 //! `Accept: text/event-stream`.
 //!
-//! The runs report into a bounded channel; the response body reads it. A coordinating task
-//! sends each run's last `points` and its `run` event as it ends, then `done`. When the
+//! The runs report into a bounded channel; the response body reads it. Each run makes its
+//! last `points` and its `run` event on its own thread as it ends; a coordinating task sends
+//! them, then `done`. When the
 //! client goes away the body is dropped, which sets the request's [`Cancel`] flag: the runs
 //! see it within [`PROGRESS_EVERY`](crate::runner::PROGRESS_EVERY) steps and stop.
 //!
@@ -11,7 +12,8 @@
 //! and a `shutdown` event ends the stream instead of `done`.
 
 use crate::events::{DoneEvent, RunEvent, ShutdownEvent, event};
-use crate::{AppState, Cancel, Plan, Reporter, Runner, Slot, Status};
+use crate::runner::Finished;
+use crate::{AppState, Cancel, MethodView, Plan, Reporter, Runner, Slot, Status};
 use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use futures_util::StreamExt;
@@ -55,7 +57,8 @@ async fn coordinate(
     let mut runs: FuturesUnordered<_> = (0..plan.methods.len())
         .map(|i| {
             let reporter = Reporter::new(i, steps, every, tx.clone(), cancel.clone());
-            let handle = runner.spawn(&plan, i, reporter);
+            let method = plan.scene.methods[i].clone();
+            let handle = runner.spawn_then(&plan, i, reporter, |run| last_events(run, method));
             async move { (i, handle.await) }
         })
         .collect();
@@ -74,32 +77,19 @@ async fn coordinate(
             }
         };
         let Some((i, joined)) = next else { break };
-        let (mut events, mut verdicts) = (Vec::new(), Default::default());
-        let (status, error, steps, elapsed_ms) = match joined {
-            Ok(mut finished) => {
-                events = finished.observer.take_points();
-                verdicts = finished.observer.verdicts();
-                match finished.outcome {
-                    Ok(outcome) => (
-                        Status::of(&outcome),
-                        outcome.error.map(|e| e.to_string()),
-                        outcome.steps,
-                        finished.elapsed_ms,
-                    ),
-                    Err(panic) => (
-                        Status::Failed,
-                        Some(format!("internal error: the simulation panicked: {panic}")),
-                        0,
-                        finished.elapsed_ms,
-                    ),
-                }
-            }
-            Err(e) => (Status::Failed, Some(format!("internal error: {e}")), 0, 0.0),
-        };
+        let (events, status) = joined.unwrap_or_else(|e| {
+            let run = RunEvent {
+                run: i,
+                method: plan.scene.methods[i].clone(),
+                status: Status::Failed,
+                error: Some(format!("internal error: {e}")),
+                steps: 0,
+                elapsed_ms: 0.0,
+                verdicts: Default::default(),
+            };
+            (vec![event("run", &run)], Status::Failed)
+        });
         failed += usize::from(status == Status::Failed);
-        let method = plan.scene.methods[i].clone();
-        let run = RunEvent { run: i, method, status, error, steps, elapsed_ms, verdicts };
-        events.push(event("run", &run));
         for ev in events {
             if tx.send(ev).await.is_err() {
                 cancel.cancel();
@@ -117,4 +107,28 @@ async fn coordinate(
     let _ = tx.send(last).await;
     // The runner (and with it the slot) is dropped here, after the last event.
     drop(runner);
+}
+
+/// A run's last `points` events and its `run` event, made on the run's own thread as it ends
+/// (serializing them is CPU work, and the other runs may still be computing).
+fn last_events(mut finished: Finished<Reporter>, method: MethodView) -> (Vec<Event>, Status) {
+    let mut events = finished.observer.take_points();
+    let verdicts = finished.observer.verdicts();
+    let (status, error, steps) = match finished.outcome {
+        Ok(outcome) => (Status::of(&outcome), outcome.error.map(|e| e.to_string()), outcome.steps),
+        Err(panic) => {
+            (Status::Failed, Some(format!("internal error: the simulation panicked: {panic}")), 0)
+        }
+    };
+    let run = RunEvent {
+        run: finished.index,
+        method,
+        status,
+        error,
+        steps,
+        elapsed_ms: finished.elapsed_ms,
+        verdicts,
+    };
+    events.push(event("run", &run));
+    (events, status)
 }
