@@ -3,9 +3,9 @@
 //!
 //! The runs report into a bounded channel; the response body reads it. Each run makes its
 //! last `points` and its `run` event on its own thread as it ends; a coordinating task sends
-//! them, then `done`. When the
-//! client goes away the body is dropped, which sets the request's [`Cancel`] flag: the runs
-//! see it within [`PROGRESS_EVERY`](crate::runner::PROGRESS_EVERY) steps and stop.
+//! them, then `done`. When the client goes away the body is dropped, which sets the request's
+//! [`Cancel`] flag: the runs see it within [`PROGRESS_EVERY`](crate::runner::PROGRESS_EVERY)
+//! steps and stop.
 //!
 //! The stream holds its simulation [`Slot`] until its runs have stopped and its last event is
 //! sent. On shutdown ([`AppState::shut_down`]) the runs are stopped, their `run` events sent,
