@@ -98,6 +98,17 @@ pub struct DriverTerms<const N: usize, const R: usize> {
 }
 
 impl<const N: usize, const R: usize> DriverTerms<N, R> {
+    /// The terms from the system's functions, one by one.
+    #[inline]
+    fn evaluated<S: System<N, R>>(sys: &S, zeta: f64) -> Self {
+        Self {
+            constraint: sys.constraint(zeta),
+            constraint_d: sys.constraint_d(zeta),
+            potential: sys.driver_potential(zeta),
+            potential_d1: sys.driver_potential_d1(zeta),
+            potential_d2: sys.driver_potential_d2(zeta),
+        }
+    }
     /// `∇V(q)`, with these terms taken at q's ζ.
     #[inline]
     pub fn gradient<S: System<N, R>>(&self, sys: &S, q: &Vector<N>) -> Vector<N> {
@@ -166,25 +177,27 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
         false
     }
 
-    /// [`DriverTerms`] at ζ.
+    /// [`DriverTerms`] at ζ: through [`System::driver_terms_trig`] where ζ is an angle (one
+    /// `sin_cos`), from the functions above otherwise.
     #[inline]
     fn driver_terms(&self, zeta: f64) -> DriverTerms<N, R> {
-        DriverTerms {
-            constraint: self.constraint(zeta),
-            constraint_d: self.constraint_d(zeta),
-            potential: self.driver_potential(zeta),
-            potential_d1: self.driver_potential_d1(zeta),
-            potential_d2: self.driver_potential_d2(zeta),
+        if Self::ZETA_IS_ANGLE {
+            let (s, c) = zeta.sin_cos();
+            self.driver_terms_trig(zeta, s, c)
+        } else {
+            DriverTerms::evaluated(self, zeta)
         }
     }
     /// [`DriverTerms`] at ζ given `sin ζ` and `cos ζ`. A system whose ζ is an angle
     /// (`ZETA_IS_ANGLE`) computes them from these, so that a Newton iteration can carry the
     /// sine and cosine from one iterate to the next by a small rotation instead of calling
-    /// `sin_cos` (`AngleTracker`); the others ignore them.
+    /// `sin_cos` (`AngleTracker`); the default evaluates the functions above and ignores them
+    /// (so an angle system that writes those functions through `driver_terms` must implement
+    /// this one, or they would call each other).
     #[inline]
     fn driver_terms_trig(&self, zeta: f64, sin: f64, cos: f64) -> DriverTerms<N, R> {
         let _ = (sin, cos);
-        self.driver_terms(zeta)
+        DriverTerms::evaluated(self, zeta)
     }
 
     /// Total potential `V = U + V_d`.

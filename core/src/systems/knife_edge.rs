@@ -90,11 +90,6 @@ impl System<3, 1> for KnifeEdge {
         self.driver_terms(zeta).constraint_d
     }
     #[inline]
-    fn driver_terms(&self, zeta: f64) -> DriverTerms<3, 1> {
-        let (s, c) = zeta.sin_cos();
-        self.driver_terms_trig(zeta, s, c)
-    }
-    #[inline]
     fn driver_terms_trig(&self, _zeta: f64, s: f64, c: f64) -> DriverTerms<3, 1> {
         DriverTerms {
             constraint: Matrix::<1, 3>::new(-s, c - self.epsilon, 0.0),

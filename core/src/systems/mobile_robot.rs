@@ -61,11 +61,6 @@ impl System<4, 2> for MobileRobot {
     fn constraint_d(&self, zeta: f64) -> Matrix<2, 4> {
         self.driver_terms(zeta).constraint_d
     }
-    #[inline]
-    fn driver_terms(&self, zeta: f64) -> DriverTerms<4, 2> {
-        let (s, c) = zeta.sin_cos();
-        self.driver_terms_trig(zeta, s, c)
-    }
     // V_d = sin ζ.
     #[inline]
     fn driver_terms_trig(&self, _zeta: f64, s: f64, c: f64) -> DriverTerms<4, 2> {

@@ -85,11 +85,6 @@ impl System<4, 2> for RollingDisk {
         self.driver_terms(zeta).constraint_d
     }
     #[inline]
-    fn driver_terms(&self, zeta: f64) -> DriverTerms<4, 2> {
-        let (s, c) = zeta.sin_cos();
-        self.driver_terms_trig(zeta, s, c)
-    }
-    #[inline]
     fn driver_terms_trig(&self, _zeta: f64, s: f64, c: f64) -> DriverTerms<4, 2> {
         disk_terms(s, c, [0.0; 3])
     }
