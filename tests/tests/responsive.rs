@@ -50,7 +50,12 @@ async fn health_answers_fast_while_every_slot_computes() {
         let body: Value = response.json().await.unwrap();
         (start.elapsed(), body)
     };
-    // Every slot taken, every run computing.
+    // Every slot taken, every run computing. A stream's answer starts before its coordinating
+    // task has started all five runs (on the runtime's other worker), so wait for them.
+    let started = Instant::now();
+    while server.state.active_runs() < 5 * SLOTS && started.elapsed() < Duration::from_secs(5) {
+        tokio::time::sleep(Duration::from_millis(1)).await;
+    }
     let (_, h) = get().await;
     assert_eq!(h["simulations"], SLOTS);
     assert_eq!(h["active_runs"], 5 * SLOTS);
