@@ -26,6 +26,7 @@ pub mod registry;
 pub mod scene;
 pub mod simulate;
 pub mod state;
+pub(crate) mod step_history;
 pub mod system;
 pub mod systems;
 pub mod work_precision;

@@ -103,10 +103,9 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
 ) -> Result<(), StepFailure> {
     let (q0, v0) = (st.q, st.v);
     let (g0, a0) = st.gradient_and_constraint(sys);
-    let mut v1 = v0 + h * (a0.transpose() * st.lambda - g0);
-    let mut lambda = st.lambda;
+    let euler = (v0 + h * (a0.transpose() * st.lambda - g0), st.lambda);
     let (mut mid, mut end) = (AngleTracker::new(), AngleTracker::new());
-    solve(newton, &mut v1, &mut lambda, |v1, lambda| {
+    let mut linearize = |v1: &Vector<N>, lambda: &Vector<R>| {
         let s = v0 + v1;
         let dq = s * (0.5 * h);
         let z_mid = q0[N - 1] + 0.5 * dq[N - 1];
@@ -131,9 +130,23 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
             g: a_mid.transpose() * (-h),
             c,
         }
-    })?;
+    };
+    // From the extrapolation of the last steps where there is one (see `StepHistory`),
+    // falling back to Euler's guess if Newton fails from it.
+    let extrapolated = st.history.guess(&q0, &v0, h);
+    let (mut v1, mut lambda) = extrapolated.unwrap_or(euler);
+    let mut fallback = extrapolated.is_some();
+    // One call site, so that `solve` and the linearization stay inlined.
+    loop {
+        match solve(newton, &mut v1, &mut lambda, &mut linearize) {
+            Ok(_) => break,
+            Err(_) if fallback => (v1, lambda, fallback) = (euler.0, euler.1, false),
+            Err(failure) => return Err(failure),
+        }
+    }
     st.advance_to((v0 + v1) * (0.5 * h), v1);
     st.lambda = lambda;
+    st.history.record((&q0, &v0), h, (&st.q, &st.v), &lambda);
     // What the next step starts from and the integrals at q₁ need.
     let at_q1 = end.terms(sys, st.q[N - 1]);
     st.remember_at_end(at_q1.gradient(sys, &st.q), at_q1.constraint, at_q1.potential);
