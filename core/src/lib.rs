@@ -13,6 +13,7 @@
 pub(crate) mod angle_tracker;
 pub mod bucket;
 pub mod classify;
+pub(crate) mod driver_history;
 pub mod error;
 pub mod integral;
 pub mod latitude;
@@ -26,7 +27,6 @@ pub mod registry;
 pub mod scene;
 pub mod simulate;
 pub mod state;
-pub(crate) mod step_history;
 pub mod system;
 pub mod systems;
 pub mod work_precision;

@@ -1,6 +1,6 @@
 //! [`State`]: what a one-step method carries from step to step.
 
-use crate::step_history::StepHistory;
+use crate::driver_history::DriverHistory;
 use crate::{Matrix, Vector, system::System};
 
 /// Position, velocity and multiplier; every method carries `λ` (leap-frog needs it, the
@@ -29,8 +29,8 @@ pub struct State<const N: usize, const R: usize> {
     pub(crate) at_end: AtEnd<N, R>,
     /// The acceleration `q̈(q, q̇)` where the last step ended, if it computed it (RK4).
     pub(crate) acceleration_at_end: AccelerationAtEnd<N>,
-    /// The last steps' `Δq̇` and `λ`, if they ended here (DD's Newton guess).
-    pub(crate) history: StepHistory<N, R>,
+    /// The driver's last speed increments, if they ended here (DD's Newton guess).
+    pub(crate) driver_history: DriverHistory<N>,
 }
 
 /// `q̈(q, q̇)` of the reduced ODE at the state a step ended on: RK4's last evaluation is the
@@ -105,7 +105,7 @@ impl<const N: usize, const R: usize> State<N, R> {
             v_compensation: Vector::zeros(),
             at_end: AtEnd::empty(),
             acceleration_at_end: AccelerationAtEnd::empty(),
-            history: StepHistory::empty(),
+            driver_history: DriverHistory::empty(),
         })
     }
 
@@ -274,7 +274,7 @@ mod tests {
             m.step(sys, &mut kept, h).unwrap();
             fresh.at_end = AtEnd::empty();
             fresh.acceleration_at_end = AccelerationAtEnd::empty();
-            fresh.history = StepHistory::empty();
+            fresh.driver_history = DriverHistory::empty();
             m.step(sys, &mut fresh, h).unwrap();
             gap = gap.max((kept.q - fresh.q).amax()).max((kept.v - fresh.v).amax());
         }

@@ -131,9 +131,13 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
             c,
         }
     };
-    // From the extrapolation of the last steps where there is one (see `StepHistory`),
-    // falling back to Euler's guess if Newton fails from it.
-    let extrapolated = st.history.guess(&q0, &v0, h);
+    // Euler's guess with the driver's speed extrapolated from its last steps where they are
+    // known (see `DriverHistory`); Euler's own if Newton fails from it.
+    let extrapolated = st.driver_history.guess(&q0, &v0, h).map(|zeta_dot| {
+        let mut v1 = euler.0;
+        v1[N - 1] = zeta_dot;
+        (v1, euler.1)
+    });
     let (mut v1, mut lambda) = extrapolated.unwrap_or(euler);
     let mut fallback = extrapolated.is_some();
     // One call site, so that `solve` and the linearization stay inlined.
@@ -146,7 +150,7 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
     }
     st.advance_to((v0 + v1) * (0.5 * h), v1);
     st.lambda = lambda;
-    st.history.record((&q0, &v0), h, (&st.q, &st.v), &lambda);
+    st.driver_history.record((&q0, &v0), h, (&st.q, &st.v));
     // What the next step starts from and the integrals at q₁ need.
     let at_q1 = end.terms(sys, st.q[N - 1]);
     st.remember_at_end(at_q1.gradient(sys, &st.q), at_q1.constraint, at_q1.potential);
