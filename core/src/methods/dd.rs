@@ -2,7 +2,10 @@
 //!
 //! Conserves the total energy H exactly (up to round-off) and is reversible, but does not
 //! preserve the fibration: through `|Δq|²` the driver's update sees the passenger.
-//! Implicit in `(q̇₁, λ)`, solved by Newton with the exact Jacobian derived below.
+//! Implicit in `(q̇₁, λ)`, solved by Newton with the exact Jacobian derived below, starting
+//! from Euler's step with the driver's speed extrapolated from the last steps
+//! ([`DriverHistory`](crate::driver_history::DriverHistory)), which saves the third iteration
+//! on most steps.
 
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
