@@ -169,6 +169,10 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     /// of MATH.md §1. The coupled fast paths of the implicit methods rely on it: with the
     /// driver solved alone, the passenger update is then one linear solve.
     const QUADRATIC_PASSENGER: bool = false;
+    /// Whether `V_d` is quadratic in ζ (`V_d'` affine, `V_d''` constant; zero counts). The
+    /// driver's equation of DLA^α's coupled fast path is then affine, and one Newton step
+    /// solves it exactly, without a second one to confirm it.
+    const QUADRATIC_DRIVER: bool = false;
     /// Whether ζ is an angle: `A` and `V_d` are 2π-periodic in it (U never depends on ζ).
     /// The reference solve then keeps ζ near 0 by whole turns, which keeps its rounding small.
     const ZETA_IS_ANGLE: bool = false;

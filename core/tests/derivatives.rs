@@ -1,6 +1,7 @@
 //! Every system's hand-written derivatives against central finite differences, its kernel
 //! against its constraint, its presets against the constraints, the periodicity in ζ that
-//! `ZETA_IS_ANGLE` declares, and its driver terms from sin/cos against the plain functions.
+//! `ZETA_IS_ANGLE` declares, the quadratic V_d that `QUADRATIC_DRIVER` declares, and its
+//! driver terms from sin/cos against the plain functions.
 
 mod common;
 use nhlab_core::{Matrix, System, Vector};
@@ -54,6 +55,13 @@ fn check<S: System<N, R>, const N: usize, const R: usize>() {
             let k = sys.kernel(z);
             assert!((a * k).amax() < 1e-14, "{id}: A k ≠ 0");
             assert!((k.norm() - 1.0).abs() < 1e-14 && k[N - 1] == 0.0, "{id}: k not unit");
+            if S::QUADRATIC_DRIVER {
+                // What DLA^α's fast path relies on when it takes one Newton step for the driver.
+                let d2 = sys.driver_potential_d2(z);
+                assert_eq!(d2, sys.driver_potential_d2(0.0), "{id}: V_d'' not constant");
+                let affine = sys.driver_potential_d1(0.0) + d2 * z;
+                assert!((sys.driver_potential_d1(z) - affine).abs() < 1e-14, "{id}: V_d' at {z}");
+            }
             if S::ZETA_IS_ANGLE {
                 // What the reference solve relies on when it takes whole turns off ζ.
                 let turned = q + Vector::<N>::from_fn(|i, _| if i == N - 1 { TAU } else { 0.0 });

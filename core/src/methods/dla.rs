@@ -5,12 +5,12 @@
 //!
 //! The coupled fast path (default, when U is quadratic): the driver's update
 //! `ζ̇₁ = ζ̇₀ − αh V_d'(ζ₀) − (1−α)h V_d'(ζ₁)` does not see the passenger, so it is one scalar
-//! Newton solve; with ζ₁ known and `∇U` affine, the passenger update is one linear saddle
+//! Newton solve (one step where V_d is quadratic, `System::QUADRATIC_DRIVER`); with ζ₁ known and `∇U` affine, the passenger update is one linear saddle
 //! solve. Same equations, same result to round-off, without the N×N Newton iterations.
 
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
-use crate::newton::{Linearization, NewtonConfig, solve, solve_scalar};
+use crate::newton::{Linearization, NewtonConfig, solve, solve_affine_scalar, solve_scalar};
 use crate::system::{DriverTerms, ParamSpec, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector, linalg};
 
@@ -131,13 +131,18 @@ impl Dla {
         // is then one Taylor step away when the last increment is tiny, and so are the
         // values at the stored ζ₁ that the next step and the integrals use.
         let (mut last, mut tracker) = (None, AngleTracker::new());
-        solve_scalar(&self.newton, &mut w, |w| {
+        let driver = |w: f64| {
             let at = Taylor::at(sys, &mut tracker, z_a + a * h * w);
             let value_slope =
                 (w - rhs + b * h * at.at.potential_d1, 1.0 + a * b * h * h * at.at.potential_d2);
             last = Some(at);
             value_slope
-        })?;
+        };
+        if S::QUADRATIC_DRIVER {
+            solve_affine_scalar(&mut w, driver)?;
+        } else {
+            solve_scalar(&self.newton, &mut w, driver)?;
+        }
         let z1 = z_a + a * h * w;
         // Newton evaluated at least once if it succeeded; the fallback is never taken.
         let last = last.unwrap_or_else(|| Taylor::at(sys, &mut tracker, z1));

@@ -36,6 +36,7 @@ static INFO: SystemInfo = SystemInfo {
 
 impl System<3, 1> for Cvt {
     const QUADRATIC_PASSENGER: bool = true;
+    const QUADRATIC_DRIVER: bool = true;
     fn info() -> &'static SystemInfo {
         &INFO
     }

@@ -58,6 +58,7 @@ static INFO: SystemInfo = SystemInfo {
 
 impl System<3, 1> for KnifeEdge {
     const QUADRATIC_PASSENGER: bool = true;
+    const QUADRATIC_DRIVER: bool = true;
     const ZETA_IS_ANGLE: bool = true;
     fn info() -> &'static SystemInfo {
         &INFO

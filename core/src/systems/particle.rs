@@ -34,6 +34,7 @@ static INFO: SystemInfo = SystemInfo {
 
 impl System<3, 1> for Particle {
     const QUADRATIC_PASSENGER: bool = true;
+    const QUADRATIC_DRIVER: bool = true;
     fn info() -> &'static SystemInfo {
         &INFO
     }
