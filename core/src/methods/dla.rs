@@ -5,8 +5,9 @@
 //!
 //! The coupled fast path (default, when U is quadratic): the driver's update
 //! `ζ̇₁ = ζ̇₀ − αh V_d'(ζ₀) − (1−α)h V_d'(ζ₁)` does not see the passenger, so it is one scalar
-//! Newton solve (one step where V_d is quadratic, `System::QUADRATIC_DRIVER`); with ζ₁ known and `∇U` affine, the passenger update is one linear saddle
-//! solve. Same equations, same result to round-off, without the N×N Newton iterations.
+//! Newton solve (a single step where V_d is quadratic, `System::QUADRATIC_DRIVER`); with ζ₁
+//! known and `∇U` affine, the passenger update is one linear saddle solve. Same equations,
+//! same result to round-off, without the N×N Newton iterations.
 
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
