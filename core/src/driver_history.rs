@@ -118,8 +118,9 @@ mod tests {
         assert!((poisoned.q - st.q).amax() < 1e-13 && (poisoned.v - st.v).amax() < 1e-13);
     }
 
-    /// The largest difference between a step from the extrapolated guess and the same step
-    /// from Euler's (relative), along `steps` steps of `m`, and in how many steps the guess was used.
+    /// The largest (relative) difference between a step from the extrapolated guess and the
+    /// same step from Euler's, along `steps` steps of `m`, and in how many steps the guess
+    /// was used.
     fn guess_vs_euler<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
         sys: &S,
         m: &M,
