@@ -56,7 +56,7 @@ pub fn solve<const N: usize, const R: usize>(
     let mut increment = f64::INFINITY;
     for it in 1..=cfg.max_iter {
         let l = linearize(v, lambda);
-        let b_inv = linalg::inverse(&l.b).ok_or(StepFailure::Singular)?;
+        let b_inv = linalg::inverse_maybe_bordered(&l.b).ok_or(StepFailure::Singular)?;
         let (b_f1, b_g) = (b_inv * l.f1, b_inv * l.g);
         let d_lambda =
             linalg::solve(&(l.c * b_g), &(l.f2 - l.c * b_f1)).ok_or(StepFailure::Singular)?;

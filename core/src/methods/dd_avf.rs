@@ -4,15 +4,16 @@
 //! With `V = U(x) + V_d(ζ)` the integral splits. The driver part is one-dimensional:
 //! `(V_d(ζ₁) − V_d(ζ₀))/Δζ` in closed form, or 4-point Gauss–Legendre when `|Δζ| < 10⁻²`
 //! (where the closed form would cancel; the quadrature error there is below 10⁻²⁰). The
-//! passenger part uses 3-point Gauss–Legendre, exact for U up to degree 6 (every system
-//! here has U of degree ≤ 2). Unlike Gonzalez's gradient, the driver's update then sees the
-//! driver alone, so the method can preserve the fibration while conserving H.
+//! passenger part uses 3-point Gauss–Legendre, exact for U up to degree 6; where U (every
+//! test system) or V_d is quadratic, the average of its affine gradient is taken at the
+//! midpoint instead. Unlike Gonzalez's gradient, the driver's update then sees the driver
+//! alone, so the method can preserve the fibration while conserving H.
 
 use super::dd::discrete_derivative_step;
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::NewtonConfig;
-use crate::system::System;
+use crate::system::{DriverTerms, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector};
 
 /// The discrete-derivative method with the AVF discrete gradient.
@@ -46,24 +47,31 @@ const GL4: [(f64, f64); 4] = [
 /// Below this |Δζ| the driver's closed form loses digits to cancellation.
 const CLOSED_FORM_MIN: f64 = 1e-2;
 
-/// The AVF gradient and its derivative with respect to `q₁` (not yet times `dq₁/dq̇₁`).
+/// The AVF gradient and its derivative with respect to `q₁` (not yet times `dq₁/dq̇₁`),
+/// given the driver's terms at `ζ̄`. Where a part of V is quadratic its gradient is affine,
+/// and its average is its value at the midpoint (and `∫ s ∇²V ds = ½ ∇²V`): the quadrature
+/// is skipped for U on every test system, and for `V_d` where it is quadratic.
 #[inline]
 fn avf_gradient<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
-    q0: &Vector<N>,
-    vd0: f64,
+    (q0, vd0): (&Vector<N>, f64),
     dq: &Vector<N>,
+    mid: &DriverTerms<N, R>,
     end: &mut AngleTracker,
 ) -> (Vector<N>, Matrix<N, N>) {
-    let mut grad = Vector::<N>::zeros();
-    let mut jac = Matrix::<N, N>::zeros();
-    for (s, w) in GL3 {
-        let q = q0 + s * dq;
-        grad += w * sys.passenger_gradient(&q);
-        jac += (w * s) * sys.passenger_hessian(&q);
-    }
+    let (mut grad, mut jac) = if S::QUADRATIC_PASSENGER {
+        let q_mid = q0 + 0.5 * dq;
+        (sys.passenger_gradient(&q_mid), sys.passenger_hessian(&q_mid) * 0.5)
+    } else {
+        GL3.iter().fold((Vector::<N>::zeros(), Matrix::<N, N>::zeros()), |(g, j), &(s, w)| {
+            let q = q0 + s * dq;
+            (g + w * sys.passenger_gradient(&q), j + (w * s) * sys.passenger_hessian(&q))
+        })
+    };
     let (z0, dz) = (q0[N - 1], dq[N - 1]);
-    let (g, dg) = if dz.abs() >= CLOSED_FORM_MIN {
+    let (g, dg) = if S::QUADRATIC_DRIVER {
+        (mid.potential_d1, 0.5 * mid.potential_d2)
+    } else if dz.abs() >= CLOSED_FORM_MIN {
         let at_z1 = end.terms(sys, z0 + dz);
         let g = (at_z1.potential - vd0) / dz;
         (g, (at_z1.potential_d1 - g) / dz)
@@ -97,9 +105,9 @@ impl Integrator for DdAvf {
     ) -> Result<(), StepFailure> {
         let q0 = st.q;
         let vd0 = st.driver_potential_and_constraint(sys).0;
-        discrete_derivative_step(sys, st, h, &self.newton, |dq, _, end| {
+        discrete_derivative_step(sys, st, h, &self.newton, |dq, mid, end| {
             // dq₁/dq̇₁ = (h/2) I.
-            let (grad, jac) = avf_gradient(sys, &q0, vd0, dq, end);
+            let (grad, jac) = avf_gradient(sys, (&q0, vd0), dq, mid, end);
             (grad, jac * (0.5 * h))
         })
     }

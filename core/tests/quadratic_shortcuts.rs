@@ -1,0 +1,115 @@
+//! The shortcuts DD and DD-AVF take where parts of V are quadratic
+//! (`System::QUADRATIC_PASSENGER`, `System::QUADRATIC_DRIVER`) against their general
+//! discrete gradients: every test system is wrapped in [`General`], which declares neither,
+//! and from every state of a trajectory (each preset) one step of each gives the same
+//! `(q₁, q̇₁, λ₁)` to 1e-13 (relative to the state's size). Every test system has a quadratic
+//! U, so the wrapped systems are also what runs the general paths at all.
+
+mod common;
+use common::preset_start;
+use nhlab_core::methods::{Dd, DdAvf};
+use nhlab_core::{DriverTerms, Matrix, Method, State, System, SystemInfo, Vector};
+
+const STEPS: usize = 2000;
+const TOL: f64 = 1e-13;
+
+/// `S` without its declarations of quadratic potentials.
+struct General<S>(S);
+
+impl<S: System<N, R>, const N: usize, const R: usize> System<N, R> for General<S> {
+    const ZETA_IS_ANGLE: bool = S::ZETA_IS_ANGLE;
+    fn info() -> &'static SystemInfo {
+        S::info()
+    }
+    fn new(params: &[f64]) -> Self {
+        Self(S::new(params))
+    }
+    fn passenger_potential(&self, q: &Vector<N>) -> f64 {
+        self.0.passenger_potential(q)
+    }
+    fn passenger_gradient(&self, q: &Vector<N>) -> Vector<N> {
+        self.0.passenger_gradient(q)
+    }
+    fn passenger_hessian(&self, q: &Vector<N>) -> Matrix<N, N> {
+        self.0.passenger_hessian(q)
+    }
+    fn driver_potential(&self, zeta: f64) -> f64 {
+        self.0.driver_potential(zeta)
+    }
+    fn driver_potential_d1(&self, zeta: f64) -> f64 {
+        self.0.driver_potential_d1(zeta)
+    }
+    fn driver_potential_d2(&self, zeta: f64) -> f64 {
+        self.0.driver_potential_d2(zeta)
+    }
+    fn constraint(&self, zeta: f64) -> Matrix<R, N> {
+        self.0.constraint(zeta)
+    }
+    fn constraint_d(&self, zeta: f64) -> Matrix<R, N> {
+        self.0.constraint_d(zeta)
+    }
+    fn kernel(&self, zeta: f64) -> Vector<N> {
+        self.0.kernel(zeta)
+    }
+    fn driver_is_periodic(&self) -> bool {
+        self.0.driver_is_periodic()
+    }
+    fn driver_terms_trig(&self, zeta: f64, sin: f64, cos: f64) -> DriverTerms<N, R> {
+        self.0.driver_terms_trig(zeta, sin, cos)
+    }
+}
+
+fn size<const N: usize, const R: usize>(st: &State<N, R>) -> f64 {
+    st.q.amax().max(st.v.amax()).max(st.lambda.amax()).max(1.0)
+}
+
+/// The largest relative difference between one step of `a` on `S` and one of `b` on
+/// `General<S>`, from each state of `b`'s trajectory of preset `preset`.
+fn worst_difference<S: System<N, R>, const N: usize, const R: usize>(
+    preset: usize,
+    (a, b): (Method, Method),
+) -> f64 {
+    let (sys, start, h) = preset_start::<S, N, R>(preset);
+    let general = General(sys);
+    let mut st = start;
+    let mut worst: f64 = 0.0;
+    for k in 0..STEPS {
+        let (mut x, mut y) = (st, st);
+        a.step(&general.0, &mut x, h).unwrap_or_else(|e| panic!("step {k}: {e}"));
+        b.step(&general, &mut y, h).unwrap_or_else(|e| panic!("general step {k}: {e}"));
+        let diff = (x.q - y.q).amax().max((x.v - y.v).amax()).max((x.lambda - y.lambda).amax());
+        worst = worst.max(diff / size(&y));
+        st = y;
+    }
+    worst
+}
+
+fn same_steps<S: System<N, R>, const N: usize, const R: usize>() {
+    for preset in 0..S::info().presets.len() {
+        for m in [Method::Dd(Dd::default()), Method::DdAvf(DdAvf::default())] {
+            let worst = worst_difference::<S, N, R>(preset, (m, m));
+            assert!(
+                worst <= TOL,
+                "{}/{}: {}'s shortcut and general path differ by {worst:e}",
+                S::info().id,
+                S::info().presets[preset].id,
+                m.label()
+            );
+        }
+    }
+}
+
+#[test]
+fn quadratic_shortcuts_take_the_general_steps() {
+    common::assert_typed_list_matches_registry();
+    for_each_system!(same_steps);
+}
+
+/// The comparison above can fail: DD and DD-AVF, whose discrete gradients differ where V_d
+/// is not quadratic, are told apart on `cvt_pendulum`.
+#[test]
+fn different_discrete_gradients_are_caught() {
+    let pair = (Method::Dd(Dd::default()), Method::DdAvf(DdAvf::default()));
+    let worst = worst_difference::<nhlab_core::systems::CvtPendulum, 3, 1>(0, pair);
+    assert!(worst > 1e3 * TOL, "{worst:e}");
+}
