@@ -41,6 +41,10 @@ pub struct Linearization<const N: usize, const R: usize> {
     pub g: Matrix<N, R>,
     /// `∂f2/∂q̇₁`.
     pub c: Matrix<R, N>,
+    /// Whether `b` may be diagonal but for its last column: then that is checked for, and
+    /// such a `b` inverted by N divisions. False where `b` is known to be dense, which skips
+    /// the check.
+    pub b_maybe_bordered: bool,
 }
 
 /// Solves `f(v, λ) = 0` starting from `(v, λ)`, updating them in place; returns the number
@@ -56,7 +60,12 @@ pub fn solve<const N: usize, const R: usize>(
     let mut increment = f64::INFINITY;
     for it in 1..=cfg.max_iter {
         let l = linearize(v, lambda);
-        let b_inv = linalg::inverse_maybe_bordered(&l.b).ok_or(StepFailure::Singular)?;
+        let b_inv = if l.b_maybe_bordered {
+            linalg::inverse_maybe_bordered(&l.b)
+        } else {
+            linalg::inverse(&l.b)
+        }
+        .ok_or(StepFailure::Singular)?;
         let (b_f1, b_g) = (b_inv * l.f1, b_inv * l.g);
         let d_lambda =
             linalg::solve(&(l.c * b_g), &(l.f2 - l.c * b_f1)).ok_or(StepFailure::Singular)?;

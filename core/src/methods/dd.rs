@@ -104,7 +104,9 @@ impl Integrator for Dd {
     ) -> Result<(), StepFailure> {
         let v_q0 = sys.passenger_potential(&st.q) + st.driver_potential_and_constraint(sys).0;
         let q0 = st.q;
-        discrete_derivative_step(sys, st, h, &self.newton, |dq, mid, end| {
+        // Gonzalez's correction makes the Jacobian dense unless V is quadratic.
+        let diagonal = S::QUADRATIC_PASSENGER && S::QUADRATIC_DRIVER;
+        discrete_derivative_step(sys, st, h, &self.newton, diagonal, |dq, mid, end| {
             discrete_gradient(sys, (&q0, v_q0), dq, h, mid, end)
         })
     }
@@ -113,7 +115,9 @@ impl Integrator for Dd {
 /// One step of the discrete-derivative family (MATH.md §3) for a given discrete gradient:
 /// `gradient(Δq, terms at ζ̄, tracker of ζ₁)` returns `∇̄V(q₀, q₀ + Δq)` and its derivative
 /// with respect to `q̇₁`; if it evaluates the driver at ζ₁ through the tracker, the terms at
-/// the step's end follow from its last iterate by a tiny rotation.
+/// the step's end follow from its last iterate by a tiny rotation. `diagonal_gradient_jacobian`
+/// says whether that derivative can be diagonal (then Newton's matrix is checked for the
+/// shape that [`linalg::inverse_maybe_bordered`](crate::linalg) inverts cheaply).
 /// Shared by `dd` (Gonzalez) and `dd_avf` (average vector field).
 #[inline]
 pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R: usize>(
@@ -121,6 +125,7 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
     st: &mut State<N, R>,
     h: f64,
     newton: &NewtonConfig,
+    diagonal_gradient_jacobian: bool,
     mut gradient: impl FnMut(
         &Vector<N>,
         &DriverTerms<N, R>,
@@ -155,6 +160,7 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
             b,
             g: a_mid.transpose() * (-h),
             c,
+            b_maybe_bordered: diagonal_gradient_jacobian,
         }
     };
     // Euler's guess with the driver's speed extrapolated from its last steps where they are

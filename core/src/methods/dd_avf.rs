@@ -105,7 +105,7 @@ impl Integrator for DdAvf {
     ) -> Result<(), StepFailure> {
         let q0 = st.q;
         let vd0 = st.driver_potential_and_constraint(sys).0;
-        discrete_derivative_step(sys, st, h, &self.newton, |dq, mid, end| {
+        discrete_derivative_step(sys, st, h, &self.newton, true, |dq, mid, end| {
             // dq₁/dq̇₁ = (h/2) I.
             let (grad, jac) = avf_gradient(sys, (&q0, vd0), dq, mid, end);
             (grad, jac * (0.5 * h))

@@ -101,6 +101,7 @@ impl Integrator for Dla {
                 b: Matrix::<N, N>::identity() + (1.0 - a) * a * h * h * at_q1.hessian(sys, &q1),
                 g,
                 c,
+                b_maybe_bordered: true,
             }
         })?;
         st.advance_to((1.0 - a) * h * st.v + a * h * v1, v1);

@@ -100,6 +100,7 @@ impl Integrator for Dla01 {
                 b: Matrix::<N, N>::identity(),
                 g,
                 c,
+                b_maybe_bordered: true,
             }
         })?;
         st.advance_to(0.5 * h * (st.v + v1), v1);
