@@ -5,9 +5,9 @@
 //! round-off the two paths are allowed to differ by.
 
 mod common;
-use common::preset_start;
+use common::{preset_start, size};
 use nhlab_core::methods::{Dla, Dla01};
-use nhlab_core::{Method, State, System};
+use nhlab_core::{Method, System};
 
 const STEPS: usize = 2000;
 const TOL: f64 = 1e-13;
@@ -22,10 +22,6 @@ fn pairs() -> Vec<(Method, Method)> {
     let fast = Dla01::default();
     out.push((Method::Dla01(fast), Method::Dla01(Dla01 { fast_path: false, ..fast })));
     out
-}
-
-fn size<const N: usize, const R: usize>(st: &State<N, R>) -> f64 {
-    st.q.amax().max(st.v.amax()).max(st.lambda.amax()).max(1.0)
 }
 
 fn same_steps<S: System<N, R>, const N: usize, const R: usize>() {

@@ -6,9 +6,9 @@
 //! U, so the wrapped systems are also what runs the general paths at all.
 
 mod common;
-use common::preset_start;
+use common::{preset_start, size};
 use nhlab_core::methods::{Dd, DdAvf};
-use nhlab_core::{DriverTerms, Matrix, Method, State, System, SystemInfo, Vector};
+use nhlab_core::{DriverTerms, Matrix, Method, System, SystemInfo, Vector};
 
 const STEPS: usize = 2000;
 const TOL: f64 = 1e-13;
@@ -57,10 +57,6 @@ impl<S: System<N, R>, const N: usize, const R: usize> System<N, R> for General<S
     fn driver_terms_trig(&self, zeta: f64, sin: f64, cos: f64) -> DriverTerms<N, R> {
         self.0.driver_terms_trig(zeta, sin, cos)
     }
-}
-
-fn size<const N: usize, const R: usize>(st: &State<N, R>) -> f64 {
-    st.q.amax().max(st.v.amax()).max(st.lambda.amax()).max(1.0)
 }
 
 /// The largest relative difference between one step of `a` on `S` and one of `b` on

@@ -28,6 +28,11 @@ pub fn assert_typed_list_matches_registry() {
     assert_eq!(ids, TYPED_IDS, "update for_each_system! in core/tests/common");
 }
 
+/// The size of a state (max norm of q, q̇ and λ, at least 1), to compare steps relative to.
+pub fn size<const N: usize, const R: usize>(st: &State<N, R>) -> f64 {
+    st.q.amax().max(st.v.amax()).max(st.lambda.amax()).max(1.0)
+}
+
 /// The system built from preset `index` (params applied) and its start state.
 pub fn preset_start<S: System<N, R>, const N: usize, const R: usize>(
     index: usize,
