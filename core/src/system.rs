@@ -166,12 +166,14 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     /// Unit vector spanning `ker A_x(ζ)`, signed as in MATH.md §2, zero driver component.
     fn kernel(&self, zeta: f64) -> Vector<N>;
     /// Whether `U` is quadratic in x (`∇U` affine, `∇²U` constant), as for every test system
-    /// of MATH.md §1. The coupled fast paths of the implicit methods rely on it: with the
-    /// driver solved alone, the passenger update is then one linear solve.
+    /// of MATH.md §1. The coupled fast paths of the implicit methods rely on it (with the
+    /// driver solved alone, the passenger update is then one linear solve), and DD and DD-AVF
+    /// skip what it makes zero in their discrete gradients. Checked in `tests/derivatives.rs`.
     const QUADRATIC_PASSENGER: bool = false;
     /// Whether `V_d` is quadratic in ζ (`V_d'` affine, `V_d''` constant; zero counts). The
     /// driver's equation of DLA^α's coupled fast path is then affine, and one Newton step
-    /// solves it exactly, without a second one to confirm it.
+    /// solves it exactly, without a second one to confirm it; with a quadratic U too, DD's and
+    /// DD-AVF's discrete gradients are `∇V(q̄)` (up to DD's rounding term).
     const QUADRATIC_DRIVER: bool = false;
     /// Whether ζ is an angle: `A` and `V_d` are 2π-periodic in it (U never depends on ζ).
     /// The reference solve then keeps ζ near 0 by whole turns, which keeps its rounding small.

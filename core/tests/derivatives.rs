@@ -1,7 +1,7 @@
 //! Every system's hand-written derivatives against central finite differences, its kernel
 //! against its constraint, its presets against the constraints, the periodicity in ζ that
-//! `ZETA_IS_ANGLE` declares, the quadratic V_d that `QUADRATIC_DRIVER` declares, and its
-//! driver terms from sin/cos against the plain functions.
+//! `ZETA_IS_ANGLE` declares, the quadratic U and V_d that `QUADRATIC_PASSENGER` and
+//! `QUADRATIC_DRIVER` declare, and its driver terms from sin/cos against the plain functions.
 
 mod common;
 use nhlab_core::{Matrix, System, Vector};
@@ -55,8 +55,16 @@ fn check<S: System<N, R>, const N: usize, const R: usize>() {
             let k = sys.kernel(z);
             assert!((a * k).amax() < 1e-14, "{id}: A k ≠ 0");
             assert!((k.norm() - 1.0).abs() < 1e-14 && k[N - 1] == 0.0, "{id}: k not unit");
+            if S::QUADRATIC_PASSENGER {
+                // What the coupled fast paths and DD's and DD-AVF's shortcuts rely on.
+                let (origin, k) = (Vector::<N>::zeros(), sys.passenger_hessian(&q));
+                assert_eq!(k, sys.passenger_hessian(&origin), "{id}: ∇²U not constant");
+                let affine = sys.passenger_gradient(&origin) + k * q;
+                assert!((sys.passenger_gradient(&q) - affine).amax() < 1e-14, "{id}: ∇U at {q}");
+            }
             if S::QUADRATIC_DRIVER {
-                // What DLA^α's fast path relies on when it takes one Newton step for the driver.
+                // What DLA^α's fast path relies on when it takes one Newton step for the
+                // driver, and DD's and DD-AVF's shortcuts.
                 let d2 = sys.driver_potential_d2(z);
                 assert_eq!(d2, sys.driver_potential_d2(0.0), "{id}: V_d'' not constant");
                 let affine = sys.driver_potential_d1(0.0) + d2 * z;
