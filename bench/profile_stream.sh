@@ -9,6 +9,7 @@
 #   N=200 BINARY=/path/to/nhlab bench/profile_stream.sh
 #   MODE=figure_set N=20 bench/profile_stream.sh   # instead: N times the paper's six
 #                                                  # experiments as JSON (POST /simulate)
+#   KEEP=/tmp/perf.data bench/profile_stream.sh    # also keep the samples for perf report
 #
 # Needs perf (apt: linux-perf) and kernel.perf_event_paranoid ≤ 2 (or root).
 set -euo pipefail
@@ -63,10 +64,11 @@ for _ in $(seq "$N"); do one; done
 kill -INT "$perf"
 wait "$perf" || true
 
+[[ -n ${KEEP:-} ]] && cp "$work/perf.data" "$KEEP"
 perf report -i "$work/perf.data" --no-children --sort symbol --stdio -g none 2>/dev/null \
     | python3 -c '
 import re, sys
-compute = re.compile(r"sincos|__sin_|__cos_|::step\b|call_once|floor|latitude|simulate::run")
+compute = re.compile(r"sincos|__sin_|__cos_|::step\b|call_once|floor|latitude|simulate::run|Method::run")
 total, other = 0.0, []
 for line in sys.stdin:
     m = re.match(r"\s+([0-9.]+)%\s+\[.\]\s+(.*\S)", line)
