@@ -107,20 +107,29 @@ pub(crate) mod schemas {
             .min_items(Some(1))
     }
 
-    /// `methods`: a non-empty list of method ids or `{"id": …, param: value}` objects.
+    /// `methods`: a non-empty list of method ids, `{"id": …, param: value}` objects or
+    /// `{"id": …, "params": {param: value}}` objects.
     pub fn methods() -> ArrayBuilder {
         let infos = method_infos();
         let mut one_of = OneOfBuilder::new().item(strings(infos.iter().map(|m| m.id).collect()));
-        for m in &infos {
-            let mut object = ObjectBuilder::new()
+        let closed = || {
+            ObjectBuilder::new()
                 .schema_type(Type::Object)
-                .property("id", strings(vec![m.id]))
-                .required("id")
-                .additional_properties(Some(AdditionalProperties::FreeForm(false)));
+                .additional_properties(Some(AdditionalProperties::FreeForm(false)))
+        };
+        for m in &infos {
+            let (mut flat, mut params) =
+                (closed().property("id", strings(vec![m.id])).required("id"), closed());
             for p in m.params {
-                object = object.property(p.name, bounded(p));
+                flat = flat.property(p.name, bounded(p));
+                params = params.property(p.name, bounded(p));
             }
-            one_of = one_of.item(object);
+            let nested = closed()
+                .property("id", strings(vec![m.id]))
+                .property("params", params)
+                .required("id")
+                .required("params");
+            one_of = one_of.item(flat).item(nested);
         }
         ArrayBuilder::new()
             .items(one_of)

@@ -127,7 +127,15 @@ fn methods(given: Option<&[MethodRequest]>, config: &Config) -> Result<Vec<Metho
         .enumerate()
         .map(|(i, m)| {
             let spec = MethodSpec { id: m.id.clone(), params: m.params.clone() };
-            Method::from_spec(&spec).map_err(|e| AppError::from(e.within(&format!("methods[{i}]"))))
+            Method::from_spec(&spec).map_err(|e| {
+                // A parameter's error points into `params` where it was given there.
+                let e = match e {
+                    InputError::UnknownMethod { .. } => e,
+                    e if m.nested => e.within("params"),
+                    e => e,
+                };
+                AppError::from(e.within(&format!("methods[{i}]")))
+            })
         })
         .collect()
 }

@@ -172,14 +172,14 @@ pub async fn scorecard(
 fn all_methods() -> Vec<MethodRequest> {
     let mut out: Vec<MethodRequest> = Method::paper_five()
         .iter()
-        .map(|m| MethodRequest {
-            id: m.info().id.to_owned(),
-            params: m.params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect(),
+        .map(|m| {
+            let params = m.params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect();
+            MethodRequest::new(m.info().id, params)
         })
         .collect();
     for info in method_infos() {
         if !out.iter().any(|m| m.id == info.id) {
-            out.push(MethodRequest { id: info.id.to_owned(), params: Vec::new() });
+            out.push(MethodRequest::new(info.id, Vec::new()));
         }
     }
     out

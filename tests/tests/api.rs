@@ -232,6 +232,20 @@ async fn simulate_explicit_fields_override_the_preset() {
     assert_eq!(runs[0]["method"], json!({"id": "dla", "alpha": 0.4, "label": "DLA^0.4"}));
     assert_eq!(runs[1]["method"]["id"], "leapfrog");
     assert_eq!(runs[2]["method"]["id"], "dd");
+    // The parameters in a `params` object (as a scene's and `GET /systems` give them): the
+    // same runs.
+    let mut nested = request.clone();
+    nested["methods"] =
+        json!([{"id": "dla", "params": {"alpha": 0.4}}, {"id": "leapfrog", "params": {}}, "dd"]);
+    let (status, nested) = server.post_json("/simulate", &nested).await;
+    assert_eq!(status, 200, "{nested}");
+    let strip = |mut b: serde_json::Value| {
+        for run in b["runs"].as_array_mut().unwrap() {
+            run.as_object_mut().unwrap().remove("elapsed_ms");
+        }
+        b
+    };
+    assert_eq!(strip(nested), strip(body.clone()));
     for run in runs {
         let series = run["series"].as_object().unwrap();
         let keys: Vec<&String> = series.keys().collect();

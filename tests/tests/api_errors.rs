@@ -68,6 +68,19 @@ async fn malformed_json_and_wrong_types_are_400() {
     )
     .await;
     rejects(&s, r#"{"system": "knife_edge", "points": 1.5}"#, 400, Some("points"), &[]).await;
+    // A method's `params` object: its errors point into it.
+    let dla = |method: &str| format!(r#"{{"system": "knife_edge", "methods": [{method}]}}"#);
+    let cases: [(&str, u16, &str, &[&str]); 6] = [
+        (r#"{"id": "dla", "params": {"alpha": "x"}}"#, 400, "methods[0].params.alpha", &["f64"]),
+        (r#"{"id": "dla", "params": [0.4]}"#, 400, "methods[0].params", &["object"]),
+        (r#"{"id": "dla", "params": {"alfa": 1}}"#, 422, "methods[0].params.alfa", &["alpha"]),
+        (r#"{"id": "dla", "params": {"alpha": 7}}"#, 422, "methods[0].params.alpha", &["(0, 1]"]),
+        (r#"{"id": "dla", "alpha": 0.4, "params": {}}"#, 400, "methods[0]", &["not both"]),
+        (r#"{"id": "dla", "alpha": 0.4, "alpha": 0.3}"#, 400, "methods[0]", &["twice"]),
+    ];
+    for (method, status, path, words) in cases {
+        rejects(&s, &dla(method), status, Some(path), words).await;
+    }
 }
 
 #[tokio::test]
