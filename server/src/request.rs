@@ -97,8 +97,8 @@ pub(crate) use scene_body;
 scene_body! {
     /// The body of `POST /simulate`.
     pub struct SimulateRequest {
-        /// Methods to run, each `{"id": "dla", "alpha": 0.4}` or just `"leapfrog"`
-        /// (default: the paper's five).
+        /// Methods to run, each `{"id": "dla", "alpha": 0.4}`, `{"id": "dla", "params":
+        /// {"alpha": 0.4}}` or just `"leapfrog"` (default: the paper's five).
         #[serde(default)]
         #[schema(schema_with = schemas::methods)]
         pub methods: Option<Vec<MethodRequest>>,
