@@ -35,6 +35,7 @@ mod slot;
 mod state;
 mod stream;
 mod systems;
+mod thread_clock;
 mod verdict_view;
 pub mod work_precision;
 
@@ -61,6 +62,7 @@ pub use systems::{
     LimitsView, MethodInfoView, PaperScene, ParamView, PresetView, SystemView, SystemsResponse,
     systems,
 };
+pub use thread_clock::ThreadClock;
 pub use verdict_view::{CRITERION, VerdictView, Verdicts};
 pub use work_precision::{WorkPrecisionRequest, WorkPrecisionResponse, work_precision};
 

@@ -35,8 +35,12 @@ pub struct RunView {
     pub error: Option<String>,
     /// Steps completed.
     pub steps: u64,
-    /// The run's own compute time, in milliseconds.
+    /// Wall-clock time of the run, from its start to its end, in milliseconds. It includes
+    /// the time the run waited for a core: runs beyond the server's cores share them.
     pub elapsed_ms: f64,
+    /// CPU time the run's thread used, in milliseconds: what the method cost, whatever the
+    /// load (null where the platform does not measure it).
+    pub cpu_ms: Option<f64>,
     /// Error series by integral.
     pub series: BTreeMap<String, SeriesView>,
 }

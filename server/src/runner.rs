@@ -1,6 +1,6 @@
 //! [`Runner`]: runs one method of a [`Plan`] on the blocking thread pool, never on the
 //! async runtime, counting it in [`AppState::active_runs`], holding the request's [`Slot`]
-//! until it ends, and timing its own compute. A panic in a run is caught and becomes that
+//! until it ends, and timing it: wall clock and its thread's CPU time ([`ThreadClock`]). A panic in a run is caught and becomes that
 //! run's error (500 for a JSON request, a failed `run` event in a stream).
 //!
 //! Checking a request runs there too ([`off_runtime`]), before admission.
@@ -9,7 +9,7 @@
 //! [`PROGRESS_EVERY`] steps (microseconds apart), set when the client goes away (the
 //! handler's future or the stream is dropped, see [`CancelOnDrop`]).
 
-use crate::{AppState, Plan, Slot};
+use crate::{AppState, Plan, Slot, ThreadClock};
 use nhlab_core::{Observer, RunConfig, RunOutcome};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
@@ -58,8 +58,10 @@ pub struct Finished<O> {
     pub index: usize,
     /// The core's outcome, or the panic message if the simulation panicked.
     pub outcome: Result<RunOutcome, String>,
-    /// The run's own compute time, in milliseconds.
+    /// Wall-clock time from the run's start to its end, in milliseconds.
     pub elapsed_ms: f64,
+    /// CPU time of the run's thread, in milliseconds (`None` where not measured).
+    pub cpu_ms: Option<f64>,
     /// The observer, with whatever it collected.
     pub observer: O,
 }
@@ -114,7 +116,7 @@ impl Runner {
         tokio::task::spawn_blocking(move || {
             let (_guard, _slot) = (guard, slot);
             lower_priority();
-            let start = Instant::now();
+            let (start, clock) = (Instant::now(), ThreadClock::start());
             let outcome = catch_unwind(AssertUnwindSafe(|| {
                 #[cfg(debug_assertions)]
                 if inject_panic {
@@ -131,8 +133,11 @@ impl Runner {
                 tracing::error!(run = index, %message, "simulation panicked");
                 message
             });
+            // Read in the reverse order of the starts, so that the CPU clock's span lies
+            // within the wall clock's.
+            let cpu_ms = clock.elapsed_ms();
             let elapsed_ms = (start.elapsed().as_secs_f64() * 1e6).round() / 1e3;
-            then(Finished { index, outcome, elapsed_ms, observer })
+            then(Finished { index, outcome, elapsed_ms, cpu_ms, observer })
         })
     }
 }

@@ -85,8 +85,12 @@ pub struct ScorecardRun {
     pub error: Option<String>,
     /// Steps completed.
     pub steps: u64,
-    /// The run's own compute time, in milliseconds.
+    /// Wall-clock time of the run, from its start to its end, in milliseconds. It includes
+    /// the time the run waited for a core: runs beyond the server's cores share them.
     pub elapsed_ms: f64,
+    /// CPU time the run's thread used, in milliseconds: what the method cost, whatever the
+    /// load (null where the platform does not measure it).
+    pub cpu_ms: Option<f64>,
     /// The verdict of each integral's error series (up to the failure for a failed run).
     pub verdicts: BTreeMap<String, VerdictView>,
 }
@@ -276,6 +280,7 @@ async fn run(
                 error: outcome.error.map(|e| e.to_string()),
                 steps: outcome.steps,
                 elapsed_ms: finished.elapsed_ms,
+                cpu_ms: finished.cpu_ms,
                 verdicts: finished.observer.verdicts.all(),
             });
         }

@@ -143,6 +143,7 @@ fn respond(plan: Plan, finished: Vec<Finished<Collector>>) -> Result<SimulateRes
             error: outcome.error.map(|e| e.to_string()),
             steps: outcome.steps,
             elapsed_ms: finished.elapsed_ms,
+            cpu_ms: finished.cpu_ms,
             series: finished.observer.into_series(),
         });
     }

@@ -85,6 +85,7 @@ async fn coordinate(
                 error: Some(format!("internal error: {e}")),
                 steps: 0,
                 elapsed_ms: 0.0,
+                cpu_ms: None,
                 verdicts: Default::default(),
             };
             (vec![event("run", &run)], Status::Failed)
@@ -127,6 +128,7 @@ fn last_events(mut finished: Finished<Reporter>, method: MethodView) -> (Vec<Eve
         error,
         steps,
         elapsed_ms: finished.elapsed_ms,
+        cpu_ms: finished.cpu_ms,
         verdicts,
     };
     events.push(event("run", &run));

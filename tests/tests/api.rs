@@ -194,7 +194,10 @@ async fn simulate_defaults_come_from_the_first_preset_and_the_paper() {
         assert_eq!(run["status"], "ok", "{}", run["error"]);
         assert!(run["error"].is_null());
         assert_eq!(run["steps"].as_u64().unwrap(), steps);
-        assert!(run["elapsed_ms"].as_f64().unwrap() >= 0.0);
+        // The run's thread cannot have used more CPU than the wall time it ran (the clock
+        // rounds both to the microsecond); a process-wide clock over five runs would.
+        let (wall, cpu) = (run["elapsed_ms"].as_f64().unwrap(), run["cpu_ms"].as_f64().unwrap());
+        assert!(wall >= 0.0 && cpu > 0.0 && cpu <= wall + 0.002, "cpu {cpu} ms, wall {wall} ms");
         let series = run["series"].as_object().unwrap();
         assert_eq!(series.len(), integrals.len());
         for integral in integrals {
@@ -242,6 +245,7 @@ async fn simulate_explicit_fields_override_the_preset() {
     let strip = |mut b: serde_json::Value| {
         for run in b["runs"].as_array_mut().unwrap() {
             run.as_object_mut().unwrap().remove("elapsed_ms");
+            run.as_object_mut().unwrap().remove("cpu_ms");
         }
         b
     };
@@ -321,6 +325,9 @@ async fn stream_equals_json(config: Config, request: Value) -> Streamed {
         for key in ["method", "status", "error", "steps"] {
             assert_eq!(event[key], run[key], "run {i} {key}");
         }
+        let (wall, cpu) =
+            (event["elapsed_ms"].as_f64().unwrap(), event["cpu_ms"].as_f64().unwrap());
+        assert!(cpu <= wall + 0.002, "run {i}: cpu {cpu} ms, wall {wall} ms");
         let series = run["series"].as_object().unwrap();
         for (integral, s) in series {
             let got = streamed.series.get(&i).and_then(|r| r.get(integral));

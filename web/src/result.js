@@ -20,6 +20,7 @@ export class Result {
       error: null,
       steps: null,
       elapsed_ms: null,
+      cpu_ms: null,
       fraction: 0,
       verdicts: null,
       series: Object.fromEntries(integrals.map((i) => [i, { t: [], mean: [], max: [] }])),
@@ -50,6 +51,7 @@ export class Result {
     run.error = ev.error ?? null;
     run.steps = ev.steps ?? null;
     run.elapsed_ms = ev.elapsed_ms ?? null;
+    run.cpu_ms = ev.cpu_ms ?? null;
     run.verdicts = ev.verdicts ?? null;
     if (run.status === 'ok') run.fraction = 1;
   }
@@ -76,6 +78,7 @@ export class Result {
         error: r.error,
         steps: r.steps,
         elapsed_ms: r.elapsed_ms,
+        cpu_ms: r.cpu_ms,
         // As the JSON response: each series with its verdict (from the `run` event).
         series: Object.fromEntries(
           Object.entries(r.series).map(([k, s]) => [k, { ...s, verdict: r.verdicts?.[k] ?? null }]),

@@ -1,7 +1,8 @@
-// The runs table: one row per run with its colour, label, status, steps and compute time;
+// The runs table: one row per run with its colour, label, status, steps and time (`timing`);
 // a failed run gets a second row with the server's message, so a failure is never silent.
 
 import { runColor } from './plots.js';
+import { timing } from './timing.js';
 
 const STATUS = {
   running: 'running',
@@ -29,7 +30,7 @@ export function renderRuns(table, result) {
     badge.className = `badge ${run.status}`;
     badge.textContent = run.status === 'running' ? `running ${Math.floor(run.fraction * 100)}%` : STATUS[run.status] ?? run.status;
     state.append(badge);
-    tr.append(name, state, cell('td', 'num', run.steps === null ? '–' : run.steps.toLocaleString('en-US')), cell('td', 'num', timing(run)));
+    tr.append(name, state, cell('td', 'num', run.steps === null ? '–' : run.steps.toLocaleString('en-US')), timeCell(run));
     rows.push(tr);
     if (run.status === 'failed') {
       const err = document.createElement('tr');
@@ -43,14 +44,11 @@ export function renderRuns(table, result) {
   table.tBodies[0].replaceChildren(...rows);
 }
 
-function timing(run) {
-  if (run.elapsed_ms === null) return '–';
-  const ms = run.elapsed_ms;
-  const time = ms < 1000 ? `${ms.toFixed(ms < 10 ? 1 : 0)} ms` : `${(ms / 1000).toFixed(2)} s`;
-  if (!run.steps || !(ms > 0)) return time;
-  const rate = run.steps / (ms / 1000);
-  const shown = rate >= 1e6 ? `${(rate / 1e6).toFixed(1)} M` : rate >= 1e3 ? `${(rate / 1e3).toFixed(0)} k` : rate.toFixed(0);
-  return `${time} · ${shown} steps/s`;
+function timeCell(run) {
+  const { text, title } = timing(run);
+  const td = cell('td', 'num', text);
+  if (title) td.title = title;
+  return td;
 }
 
 function cell(tag, className = '', text) {

@@ -21,10 +21,11 @@ test('progress counts finished runs as complete and reaches 1', () => {
   r.progress({ run: 0, t: 50, fraction: 0.5 });
   assert.equal(r.fraction, 0.25);
   r.finishRun({ run: 0, status: 'failed', error: 'Newton did not converge at t = 3', steps: 10, elapsed_ms: 1 });
-  r.finishRun({ run: 1, status: 'ok', error: null, steps: 318, elapsed_ms: 2 });
+  r.finishRun({ run: 1, status: 'ok', error: null, steps: 318, elapsed_ms: 2, cpu_ms: 0.5 });
   assert.equal(r.fraction, 1);
   assert.equal(r.runs[0].status, 'failed');
   assert.equal(r.toJSON().runs[0].error, 'Newton did not converge at t = 3');
+  assert.deepEqual([r.toJSON().runs[0].cpu_ms, r.toJSON().runs[1].cpu_ms], [null, 0.5]);
 });
 
 test('an event for a run the scene lacks is an error, not silence', () => {
