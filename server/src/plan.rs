@@ -12,6 +12,9 @@ pub enum Delivery {
     Json,
     /// Server-sent events as the runs go.
     Stream,
+    /// One JSON response, from an endpoint that cannot stream (`/scorecard`,
+    /// `/work-precision`): the JSON limit, and no advice to ask for a stream.
+    JsonOnly,
 }
 
 /// A checked request.
@@ -69,13 +72,16 @@ impl Plan {
 fn check_steps(scene: &Scene, config: &Config, delivery: Delivery) -> Result<(), AppError> {
     let steps = scene.steps();
     let (limit, how) = match delivery {
-        Delivery::Json => (
+        Delivery::Json if config.max_steps_stream > config.max_steps_json => (
             config.max_steps_json,
             format!(
                 "a JSON response; a stream (Accept: text/event-stream) allows {}",
                 config.max_steps_stream
             ),
         ),
+        Delivery::Json | Delivery::JsonOnly => {
+            (config.max_steps_json, "a JSON response".to_owned())
+        }
         Delivery::Stream => (config.max_steps_stream, "a stream".to_owned()),
     };
     if steps > limit {

@@ -219,7 +219,7 @@ fn plans(req: &ScorecardRequest, state: &AppState) -> Result<Vec<Plan>, AppError
         .enumerate()
         .map(|(i, scene)| {
             let sim = scene.to_simulate(Some(methods.clone()), req.points);
-            Plan::resolve(&sim, state, Delivery::Json).map_err(|mut e| {
+            Plan::resolve(&sim, state, Delivery::JsonOnly).map_err(|mut e| {
                 // Methods and points are the scorecard's own fields; the rest is the scene's.
                 if let Some(path) = &e.path
                     && !path.starts_with("methods")

@@ -76,7 +76,7 @@ pub async fn simulate(
     let slot = state.admit()?;
     match delivery {
         Delivery::Stream => Ok(crate::stream(&state, plan, slot)),
-        Delivery::Json => {
+        Delivery::Json | Delivery::JsonOnly => {
             let finished = run(&state, &plan, slot).await?;
             // Building the columns, the verdicts and ~1 MB of JSON is CPU work: off the runtime.
             let body = crate::runner::off_runtime(move || {

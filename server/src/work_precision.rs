@@ -180,7 +180,7 @@ impl Job {
             let t_end = scene_t_end(&sim)?;
             sim.step = given_steps(steps, t_end)?.into_iter().reduce(f64::max);
         }
-        let plan = Plan::resolve(&sim, state, Delivery::Json)?;
+        let plan = Plan::resolve(&sim, state, Delivery::JsonOnly)?;
         let (t_end, h) = (plan.prepared.scene.t_end, plan.prepared.scene.step);
         let (steps, field) = match (&req.steps, req.levels) {
             (Some(_), Some(_)) => {

@@ -235,7 +235,7 @@ async fn steps_and_points_out_of_bounds_are_422() {
 }
 
 #[tokio::test]
-async fn the_json_step_limit_points_to_the_stream() {
+async fn the_json_step_limit_points_to_the_stream_where_there_is_one() {
     let s = TestServer::start().await;
     // 10⁸ steps: over the JSON limit (2·10⁷), within the stream's (2·10⁸).
     let body = json!({"system": "knife_edge", "step": 1e-6, "t_end": 100}).to_string();
@@ -245,6 +245,18 @@ async fn the_json_step_limit_points_to_the_stream() {
     assert_eq!(error["path"], "t_end");
     let message = error["error"].as_str().unwrap();
     assert!(message.contains("20000000") && message.contains("text/event-stream"), "{message}");
+    // The endpoints that answer only in JSON do not point to a stream they cannot give.
+    let scene = json!({"system": "knife_edge", "step": 1e-6, "t_end": 100});
+    for (route, body) in [
+        ("/work-precision", scene.clone()),
+        ("/scorecard", json!({"scenes": [scene], "methods": ["leapfrog"]})),
+    ] {
+        let response = reqwest::Client::new().post(s.at(route)).json(&body).send().await.unwrap();
+        assert_eq!(response.status(), 422, "{route}");
+        let error: Value = response.json().await.unwrap();
+        let message = error["error"].as_str().unwrap();
+        assert!(message.contains("20000000") && !message.contains("stream"), "{route}: {message}");
+    }
 }
 
 #[tokio::test]
