@@ -115,6 +115,25 @@ impl From<serde_path_to_error::Error<serde_json::Error>> for AppError {
 }
 
 impl AppError {
+    /// A 400 for a body that is JSON but not an object.
+    pub fn not_an_object(value: &serde_json::Value) -> Self {
+        let kind = match value {
+            serde_json::Value::Array(_) => "an array",
+            serde_json::Value::String(_) => "a string",
+            serde_json::Value::Number(_) => "a number",
+            serde_json::Value::Bool(_) => "a boolean",
+            serde_json::Value::Null => "null",
+            serde_json::Value::Object(_) => "an object",
+        };
+        Self {
+            status: StatusCode::BAD_REQUEST,
+            message: format!(
+                "the body must be a JSON object such as {{\"system\": \"knife_edge\"}}, not {kind}"
+            ),
+            path: None,
+        }
+    }
+
     /// A 400 for a body that is not one JSON document (e.g. trailing characters).
     pub fn malformed(e: &serde_json::Error) -> Self {
         Self {

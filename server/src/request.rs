@@ -112,12 +112,27 @@ scene_body! {
 impl SimulateRequest {
     /// Reads a request body, naming the offending path on failure.
     pub fn from_json(body: &[u8]) -> Result<Self, AppError> {
-        let de = &mut serde_json::Deserializer::from_slice(body);
-        let req: Self = serde_path_to_error::deserialize(&mut *de)?;
-        // Nothing but whitespace may follow the object (`{…} {` is not one JSON document).
-        de.end().map_err(|e| AppError::malformed(&e))?;
-        Ok(req)
+        read_object(body)
     }
+}
+
+/// Reads a request body that must be one JSON object, naming the offending path on failure.
+///
+/// serde's derived structs also accept an array of the fields in order, so `["cvt"]` would be
+/// read as `{"system": "cvt"}` and `[]` as `{}` (all defaults: a whole scorecard); any JSON
+/// that is not an object is refused here first.
+pub fn read_object<T: de::DeserializeOwned>(body: &[u8]) -> Result<T, AppError> {
+    let first = body.iter().find(|b| !matches!(b, b' ' | b'\t' | b'\n' | b'\r'));
+    if first.is_some_and(|&b| b != b'{')
+        && let Ok(value) = serde_json::from_slice::<serde_json::Value>(body)
+    {
+        return Err(AppError::not_an_object(&value));
+    }
+    let de = &mut serde_json::Deserializer::from_slice(body);
+    let req: T = serde_path_to_error::deserialize(&mut *de)?;
+    // Nothing but whitespace may follow the object (`{…} {` is not one JSON document).
+    de.end().map_err(|e| AppError::malformed(&e))?;
+    Ok(req)
 }
 
 /// One method of a request: its id and parameter overrides, beside the id (`{"id": "dla",

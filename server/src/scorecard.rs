@@ -156,9 +156,7 @@ pub async fn scorecard(
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<ScorecardResponse>, AppError> {
     let body = body.map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
-    let de = &mut serde_json::Deserializer::from_slice(&body);
-    let req: ScorecardRequest = serde_path_to_error::deserialize(&mut *de)?;
-    de.end().map_err(|e| AppError::malformed(&e))?;
+    let req: ScorecardRequest = crate::request::read_object(&body)?;
     let plans = {
         let state = state.clone();
         crate::runner::off_runtime(move || plans(&req, &state)).await?

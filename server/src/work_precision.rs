@@ -139,9 +139,7 @@ pub async fn work_precision(
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Json<WorkPrecisionResponse>, AppError> {
     let body = body.map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
-    let de = &mut serde_json::Deserializer::from_slice(&body);
-    let req: WorkPrecisionRequest = serde_path_to_error::deserialize(&mut *de)?;
-    de.end().map_err(|e| AppError::malformed(&e))?;
+    let req: WorkPrecisionRequest = crate::request::read_object(&body)?;
     let job = {
         let state = state.clone();
         crate::runner::off_runtime(move || Job::resolve(&req, &state)).await?

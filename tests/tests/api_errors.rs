@@ -39,6 +39,23 @@ async fn malformed_json_and_wrong_types_are_400() {
     let s = TestServer::start().await;
     rejects(&s, r#"{"system": "knife_edge","#, 400, None, &["EOF"]).await;
     rejects(&s, "not json", 400, None, &["malformed JSON", "JSON object"]).await;
+    // JSON that is not an object; serde alone would read `["knife_edge"]` as a scene.
+    for (body, kind) in [
+        ("[]", "an array"),
+        (r#" ["knife_edge"]"#, "an array"),
+        ("\"knife_edge\"", "a string"),
+        ("null", "null"),
+        ("5", "a number"),
+    ] {
+        rejects(&s, body, 400, None, &["must be a JSON object", kind]).await;
+    }
+    // `[]` would otherwise be a scorecard with every default: all methods on the paper's scenes.
+    for route in ["/scorecard", "/work-precision"] {
+        let response = reqwest::Client::new().post(s.at(route)).body("[]").send().await.unwrap();
+        assert_eq!(response.status(), 400, "{route}");
+        let error: Value = response.json().await.unwrap();
+        assert!(error["error"].as_str().unwrap().contains("must be a JSON object"), "{error}");
+    }
     rejects(&s, "", 400, None, &["EOF"]).await;
     rejects(&s, r#"{"system": 5}"#, 400, Some("system"), &["string"]).await;
     rejects(&s, r#"{"step": 0.1}"#, 400, Some("system"), &["missing field `system`"]).await;
