@@ -135,6 +135,32 @@ pub fn read_object<T: de::DeserializeOwned>(body: &[u8]) -> Result<T, AppError> 
     Ok(req)
 }
 
+/// Reads a list of objects (a scorecard's `scenes`), refusing an element written as an array
+/// of its fields, which serde's derived structs would otherwise accept. The elements are read
+/// from the request's own map access, so an error keeps its path (`scenes[0].step`).
+pub fn objects<'de, D: de::Deserializer<'de>, T: Deserialize<'de>>(
+    d: D,
+) -> Result<Option<Vec<T>>, D::Error> {
+    struct Object<T>(T);
+    impl<'de, T: Deserialize<'de>> Deserialize<'de> for Object<T> {
+        fn deserialize<D: de::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            struct ObjectVisitor<T>(std::marker::PhantomData<T>);
+            impl<'de, T: Deserialize<'de>> Visitor<'de> for ObjectVisitor<T> {
+                type Value = T;
+                fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                    f.write_str("a JSON object")
+                }
+                fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<T, A::Error> {
+                    T::deserialize(de::value::MapAccessDeserializer::new(map))
+                }
+            }
+            d.deserialize_map(ObjectVisitor(std::marker::PhantomData)).map(Object)
+        }
+    }
+    let list: Option<Vec<Object<T>>> = Deserialize::deserialize(d)?;
+    Ok(list.map(|l| l.into_iter().map(|Object(t)| t).collect()))
+}
+
 /// One method of a request: its id and parameter overrides, beside the id (`{"id": "dla",
 /// "alpha": 0.4}`, as responses echo it) or in a `params` object (`{"id": "dla", "params":
 /// {"alpha": 0.4}}`, as a scene's parameters and `GET /systems` put them); a bare string is

@@ -39,7 +39,7 @@ pub struct ScorecardRequest {
     pub methods: Option<Vec<MethodRequest>>,
     /// Scenes, each like a `/simulate` body without `methods` and `points` (default: the
     /// paper's six experiments).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::request::objects")]
     #[schema(max_items = 16)]
     pub scenes: Option<Vec<SceneSpec>>,
     /// Buckets per series, on which the verdicts are taken (default 1000).

@@ -208,6 +208,13 @@ async fn scorecard_errors_name_the_field() {
         (json!({"methods": [{"id": "dla", "alfa": 1}]}), 422, "methods[0].alfa"),
         (json!({"points": 0}), 422, "points"),
         (json!({"scene": []}), 400, "scene"),
+        // A scene written as an array of its fields (serde alone would read it as one).
+        (json!({"scenes": [["knife_edge"]]}), 400, "scenes[0]"),
+        (
+            json!({"scenes": [{"system": "knife_edge"}, {"system": "cvt", "t_end": "x"}]}),
+            400,
+            "scenes[1].t_end",
+        ),
     ];
     for (body, code, path) in cases {
         let (status, err) = server.post_json("/scorecard", &body).await;
