@@ -15,10 +15,12 @@ cores), per repetition:
                 --max-simulations 6.
 
 Reported, minimum (and median) over the repetitions: the wall time of the set as the client
-sees it; the sum of every run's `elapsed_ms` (30 runs); the sum over the six requests of their
-longest run (each request's runs compute in parallel); and the server's CPU time per set
+sees it; the sum of every run's `elapsed_ms` (30 runs, wall clock); the sum over the six
+requests of their longest run (each request's runs compute in parallel); the sum of every run's
+`cpu_ms` (its thread's CPU time: the integrators' share); and the server's CPU time per set
 (/proc/PID/stat, user + system, averaged over the repetitions; it counts each core's time, so
-it is the honest "compute" when runs share cores).
+it is the honest "compute" when runs share cores; minus Σ cpu_ms, it is what the server adds:
+checking, JSON, HTTP).
 
 Target (issue 4): the whole figure set through /simulate under 60 ms of compute on this
 2-core machine.
@@ -63,7 +65,8 @@ def parse(raw):
     js = json.loads(raw)
     runs = js["runs"]
     assert len(runs) == 5 and all(r["status"] == "ok" for r in runs), js
-    return [r["elapsed_ms"] for r in runs], sum(r["steps"] for r in runs), len(raw)
+    return ([r["elapsed_ms"] for r in runs], sum(r["steps"] for r in runs), len(raw),
+            sum(r["cpu_ms"] for r in runs))
 
 
 def the_set(server, width, requests):
@@ -108,7 +111,7 @@ def the_set(server, width, requests):
 def measure(server, width, reps, quiet):
     requests = bodies(server)
     the_set(server, width, requests)  # warm-up
-    walls, sums, maxes, steps = [], [], [], None
+    walls, sums, maxes, cpus, steps = [], [], [], [], None
     cpu = 0.0
     for _ in range(reps):
         quiet.wait()
@@ -116,12 +119,14 @@ def measure(server, width, reps, quiet):
         wall, out = the_set(server, width, requests)
         cpu += cpu_seconds(server.pid) - c0
         walls.append(wall)
-        sums.append(sum(sum(ms) for ms, _, _ in out) / 1e3)
-        maxes.append(sum(max(ms) for ms, _, _ in out) / 1e3)
-        steps = sum(n for _, n, _ in out)
-        size = sum(b for _, _, b in out)
+        sums.append(sum(sum(ms) for ms, _, _, _ in out) / 1e3)
+        maxes.append(sum(max(ms) for ms, _, _, _ in out) / 1e3)
+        cpus.append(sum(c for _, _, _, c in out) / 1e3)
+        steps = sum(n for _, n, _, _ in out)
+        size = sum(b for _, _, b, _ in out)
     cpu /= reps
-    return {"wall": walls, "sum": sums, "max": maxes, "cpu": cpu, "steps": steps, "bytes": size}
+    return {"wall": walls, "sum": sums, "max": maxes, "runs_cpu": cpus, "cpu": cpu,
+            "steps": steps, "bytes": size}
 
 
 def core_baseline(skip_build, nice):
@@ -190,15 +195,15 @@ def main():
           f"{rows[0][1]['bytes']} bytes of JSON; {args.reps} repetitions; ms as min / median")
     print()
     print("| how | wall of the set | Σ elapsed_ms (30 runs) | Σ over requests of the longest "
-          "run | server CPU per set |")
-    print("|---|---|---|---|---|")
+          "run | Σ cpu_ms (30 runs) | server CPU per set |")
+    print("|---|---|---|---|---|---|")
     for label, m in rows:
         print(f"| {label} | {mm(m['wall'])} | {mm(m['sum'])} | {mm(m['max'])} | "
-              f"{m['cpu'] * 1e3:.0f} |")
+              f"{mm(m['runs_cpu'])} | {m['cpu'] * 1e3:.0f} |")
     if base:
         print(f"| core alone, one thread (figure_set example, nice {args.baseline_nice}, 3 × 20 "
               f"sets) | {min(w for w, _ in base) * 1e3:.1f} / {median([w for w, _ in base]) * 1e3:.1f}"
-              f" | – | – | {min(c for _, c in base) * 1e3:.0f} |")
+              f" | – | – | – | {min(c for _, c in base) * 1e3:.0f} |")
     print()
     print(f"machine: {other_load()}")
     print(f"shared machine: {quiet.report()}")
