@@ -67,6 +67,20 @@ pub enum InputError {
         /// The value given.
         value: f64,
     },
+    /// A component of the initial state is so large that the run would count as diverged
+    /// from its first step.
+    #[error(
+        "{field} = {value:e} is too large: the initial q and v must be at most {limit:e} in \
+         magnitude (a run whose state exceeds 1e100 has diverged)"
+    )]
+    TooLarge {
+        /// Field path, e.g. `q[0]`.
+        field: String,
+        /// The value given.
+        value: f64,
+        /// The largest magnitude allowed.
+        limit: f64,
+    },
     /// The initial velocity violates the constraints.
     #[error(
         "inconsistent initial velocity: |A(q) v| = {residual:.3e} exceeds 1e-9; v must satisfy the constraints A(q) v = 0"
@@ -134,6 +148,7 @@ impl InputError {
             | Self::ParamOutOfRange { field, .. }
             | Self::WrongLength { field, .. }
             | Self::NonFinite { field, .. }
+            | Self::TooLarge { field, .. }
             | Self::UnknownMethod { field, .. } => field.clone(),
             Self::UnknownPreset { .. } => "preset".into(),
             Self::InconsistentVelocity { .. } => "v".into(),

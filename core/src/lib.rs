@@ -41,7 +41,7 @@ pub use properties::Properties;
 pub use registry::{
     Method, MethodSpec, PAPER_SCENES, SYSTEMS, SystemEntry, method_info, method_infos, system,
 };
-pub use scene::{PreparedScene, Scene, SceneRequest};
+pub use scene::{MAX_INITIAL, PreparedScene, Scene, SceneRequest};
 pub use simulate::{Collect, Observer, Problem, RunConfig, RunOutcome};
 pub use state::State;
 pub use system::{DriverTerms, ParamSpec, Preset, System, SystemInfo};

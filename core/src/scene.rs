@@ -56,6 +56,12 @@ fn finite(field: impl Into<String>, value: f64) -> Result<f64, InputError> {
     }
 }
 
+/// The largest magnitude of a component of the initial state: far enough below
+/// [`DIVERGED`](crate::simulate::DIVERGED), where a run stops as diverged, that a state of
+/// such components is not already beyond it (which would fail the first step with the
+/// advice to shorten it).
+pub const MAX_INITIAL: f64 = 1e90;
+
 fn vector(field: &str, values: &[f64], dof: usize) -> Result<Vec<f64>, InputError> {
     if values.len() != dof {
         return Err(InputError::WrongLength {
@@ -65,7 +71,10 @@ fn vector(field: &str, values: &[f64], dof: usize) -> Result<Vec<f64>, InputErro
         });
     }
     for (i, &x) in values.iter().enumerate() {
-        finite(format!("{field}[{i}]"), x)?;
+        let field = format!("{field}[{i}]");
+        if finite(&field, x)?.abs() > MAX_INITIAL {
+            return Err(InputError::TooLarge { field, value: x, limit: MAX_INITIAL });
+        }
     }
     Ok(values.to_vec())
 }

@@ -68,6 +68,17 @@ fn scene_errors_name_their_field() {
             "finite",
         ),
         (SceneRequest { v: Some(vec![1.0, 0.0, 1.0]), ..req("knife_edge") }, "v", "1.000e0"),
+        // So large that the run would count as diverged from its first step.
+        (SceneRequest { q: Some(vec![1e300, 1e300, 0.0]), ..req("cvt") }, "q[0]", "at most 1e90"),
+        (
+            SceneRequest {
+                q: Some(vec![0.0, 0.0, 1.0]),
+                v: Some(vec![0.0, 0.0, -1e95]),
+                ..req("knife_edge")
+            },
+            "v[2]",
+            "too large",
+        ),
         (SceneRequest { step: Some(0.0), ..req("knife_edge") }, "step", "positive"),
         (SceneRequest { step: Some(-0.1), ..req("knife_edge") }, "step", "positive"),
         (SceneRequest { step: Some(f64::NAN), ..req("knife_edge") }, "step", "finite"),

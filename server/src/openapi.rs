@@ -100,6 +100,12 @@ pub(crate) mod schemas {
             .description(Some("Parameter overrides by name, e.g. {\"epsilon\": 0.5}"))
     }
 
+    /// `q`, `v`: the initial state's components, each at most `MAX_INITIAL` in magnitude.
+    pub fn state() -> ArrayBuilder {
+        let limit = nhlab_core::MAX_INITIAL;
+        ArrayBuilder::new().items(number().minimum(Some(-limit)).maximum(Some(limit)))
+    }
+
     /// `integrals`: a non-empty list of integral ids.
     pub fn integrals() -> ArrayBuilder {
         ArrayBuilder::new()

@@ -35,11 +35,15 @@ macro_rules! scene_body {
             #[serde(default)]
             #[schema(schema_with = $crate::openapi::schemas::params)]
             pub params: Option<std::collections::BTreeMap<String, f64>>,
-            /// Initial configuration (one number per degree of freedom).
+            /// Initial configuration (one number per degree of freedom, each at most 1e90 in
+            /// magnitude).
             #[serde(default)]
+            #[schema(schema_with = $crate::openapi::schemas::state)]
             pub q: Option<Vec<f64>>,
-            /// Initial velocity, consistent with the constraints.
+            /// Initial velocity, consistent with the constraints (each component at most
+            /// 1e90 in magnitude).
             #[serde(default)]
+            #[schema(schema_with = $crate::openapi::schemas::state)]
             pub v: Option<Vec<f64>>,
             /// Step size, positive.
             #[serde(default)]

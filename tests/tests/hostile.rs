@@ -103,10 +103,13 @@ fn hostile() -> Vec<(&'static str, Vec<u8>, u16)> {
         ("trailing garbage", br#"{"system": "knife_edge"} {"#.to_vec(), 400),
         ("preset of another system", ke(r#""preset": "rotating""#), 422),
         ("integral the system lacks", ke(r#""integrals": ["latitude"]"#), 422),
+        // A state the run would count as diverged from its first step (over 1e100): refused.
+        ("q far away", ke(r#""preset": "paper", "q": [1e300, -1e300, 1.5]"#), 422),
+        ("q 1e308", ke(r#""q": [1e308, 1e308, 1e308]"#), 422),
+        ("v 1e150", ke(r#""preset": "paper", "v": [0, 0, 1e150], "t_end": 1"#), 422),
         // Within every limit: it runs (and a run may fail, saying why), never a 5xx.
-        ("q far away", ke(r#""preset": "paper", "q": [1e300, -1e300, 1.5]"#), 200),
-        ("q 1e308", ke(r#""q": [1e308, 1e308, 1e308]"#), 200),
-        ("fast and short", ke(r#""preset": "paper", "v": [0, 0, 1e150], "t_end": 1"#), 200),
+        ("q far", ke(r#""preset": "paper", "q": [1e89, -1e89, 1.5]"#), 200),
+        ("fast and short", ke(r#""preset": "paper", "v": [0, 0, 1e89], "t_end": 1"#), 200),
     ]
 }
 
