@@ -135,11 +135,8 @@ fn methods(given: Option<&[MethodRequest]>, config: &Config) -> Result<Vec<Metho
             let spec = MethodSpec { id: m.id.clone(), params: m.params.clone() };
             Method::from_spec(&spec).map_err(|e| {
                 // A parameter's error points into `params` where it was given there.
-                let e = match e {
-                    InputError::UnknownMethod { .. } => e,
-                    e if m.nested => e.within("params"),
-                    e => e,
-                };
+                let in_params = m.nested && !matches!(e, InputError::UnknownMethod { .. });
+                let e = if in_params { e.within("params") } else { e };
                 AppError::from(e.within(&format!("methods[{i}]")))
             })
         })

@@ -1,7 +1,8 @@
 //! [`Runner`]: runs one method of a [`Plan`] on the blocking thread pool, never on the
 //! async runtime, counting it in [`AppState::active_runs`], holding the request's [`Slot`]
-//! until it ends, and timing it: wall clock and its thread's CPU time ([`ThreadClock`]). A panic in a run is caught and becomes that
-//! run's error (500 for a JSON request, a failed `run` event in a stream).
+//! until it ends, and timing it: wall clock and its thread's CPU time ([`ThreadClock`]). A
+//! panic in a run is caught and becomes that run's error (500 for a JSON request, a failed
+//! `run` event in a stream).
 //!
 //! Checking a request runs there too ([`off_runtime`]), before admission.
 //!
@@ -9,6 +10,7 @@
 //! [`PROGRESS_EVERY`] steps (microseconds apart), set when the client goes away (the
 //! handler's future or the stream is dropped, see [`CancelOnDrop`]).
 
+use crate::thread_clock::millis;
 use crate::{AppState, Plan, Slot, ThreadClock};
 use nhlab_core::{Observer, RunConfig, RunOutcome};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -136,7 +138,7 @@ impl Runner {
             // Read in the reverse order of the starts, so that the CPU clock's span lies
             // within the wall clock's.
             let cpu_ms = clock.elapsed_ms();
-            let elapsed_ms = (start.elapsed().as_secs_f64() * 1e6).round() / 1e3;
+            let elapsed_ms = millis(start.elapsed());
             then(Finished { index, outcome, elapsed_ms, cpu_ms, observer })
         })
     }

@@ -97,7 +97,7 @@ async fn coordinate(
             }
         }
     }
-    let elapsed_ms = (start.elapsed().as_secs_f64() * 1e6).round() / 1e3;
+    let elapsed_ms = crate::thread_clock::millis(start.elapsed());
     let runs = plan.methods.len();
     let last = if shutting_down {
         let error = "the server is shutting down: the runs were stopped".to_owned();

@@ -20,8 +20,13 @@ impl ThreadClock {
     /// rounded to the microsecond; `None` where the platform does not measure it.
     pub fn elapsed_ms(&self) -> Option<f64> {
         let used = thread_cpu_time()?.checked_sub(self.0?)?;
-        Some((used.as_secs_f64() * 1e6).round() / 1e3)
+        Some(millis(used))
     }
+}
+
+/// A duration in milliseconds rounded to the microsecond, as the API reports times.
+pub(crate) fn millis(d: Duration) -> f64 {
+    (d.as_secs_f64() * 1e6).round() / 1e3
 }
 
 #[cfg(target_os = "linux")]
