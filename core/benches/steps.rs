@@ -2,7 +2,7 @@
 //! `cargo bench -p nhlab-core`; numbers go to docs/benchmarks.md.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use nhlab_core::methods::{Dla, Dla01};
+use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01};
 use nhlab_core::systems::*;
 use nhlab_core::{
     Method, MethodSpec, Observer, RunConfig, Scene, SceneRequest, State, System, Vector,
@@ -12,9 +12,9 @@ use std::hint::black_box;
 
 const STEPS: u64 = 10_000;
 
-/// Every registered method: the paper's five first (implicit ones on their coupled fast
-/// paths), then the others (DD-AVF, RK4), then the implicit ones on their general Newton
-/// paths, so that one run gives the fast/general ratio (issue 4).
+/// Every registered method: the paper's five first (implicit ones on their fast paths),
+/// then the others (DD-AVF, RK4), then the implicit ones on their general Newton paths, so
+/// that one run gives the fast/general ratio (issue 4).
 fn methods() -> Vec<(String, Method)> {
     let mut out: Vec<(String, Method)> =
         Method::paper_five().iter().map(|m| (m.label(), *m)).collect();
@@ -24,10 +24,12 @@ fn methods() -> Vec<(String, Method)> {
             out.push((m.label(), m));
         }
     }
-    for m in Method::paper_five() {
+    for m in out.clone().into_iter().map(|(_, m)| m) {
         let general = match m {
             Method::Dla(d) => Method::Dla(Dla { fast_path: false, ..d }),
             Method::Dla01(d) => Method::Dla01(Dla01 { fast_path: false, ..d }),
+            Method::Dd(d) => Method::Dd(Dd { fast_path: false, ..d }),
+            Method::DdAvf(d) => Method::DdAvf(DdAvf { fast_path: false, ..d }),
             _ => continue,
         };
         out.push((format!("{} general", m.label()), general));

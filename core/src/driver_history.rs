@@ -1,5 +1,7 @@
 //! [`DriverHistory`]: the driver's last speed increments, from which DD guesses the driver's
-//! speed at the end of its next step for Newton.
+//! speed at the end of its next step for Newton. Used by the `(q̇₁, λ)` solve of DD and
+//! DD-AVF, which they take where V_d is not quadratic (`cvt_pendulum`, the mobile robot);
+//! where V is quadratic they start from the exact solution instead (`dd_reduced`).
 //!
 //! DD starts Newton from an explicit Euler step, accurate to O(h²). Most of that error is
 //! harmless: the passenger's velocity and λ enter DD's equations (nearly) linearly, so Newton
@@ -149,7 +151,9 @@ mod tests {
         for (gap, used) in [
             guess_vs_euler(&CvtPendulum { epsilon: 0.5 }, &Dd::default(), 0.1, 2000),
             guess_vs_euler(&MobileRobot, &Dd::default(), 0.05, 2000),
-            guess_vs_euler(&Particle, &DdAvf::default(), 0.1, 2000),
+            // The general path: where V is quadratic DD-AVF's default solve starts from the
+            // exact solution instead (`dd_reduced`).
+            guess_vs_euler(&Particle, &DdAvf { fast_path: false, ..DdAvf::default() }, 0.1, 2000),
         ] {
             assert_eq!(used, 1997, "every step after the first three");
             // Both are within Newton's tolerance (10⁻¹⁴ relative) of the same solution.

@@ -115,6 +115,44 @@ pub fn solve_scalar(
     Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment })
 }
 
+/// Solves the two equations `f(x) = 0` from `x`, in place; `f` returns the values and the
+/// Jacobian. Same stopping rule as [`solve`]. Returns the last increment as computed, before
+/// its addition to `x` rounded it to `x`'s grid: a caller may apply it to finer quantities
+/// derived from `x` at the last evaluation. DD's reduced path uses it for the two
+/// coordinates of `q̇₀ + q̇₁` in the kernel of `A(q̄)`.
+#[inline]
+pub fn solve_pair(
+    cfg: &NewtonConfig,
+    x: &mut Vector<2>,
+    mut f: impl FnMut(&Vector<2>) -> (Vector<2>, Matrix<2, 2>),
+) -> Result<Vector<2>, StepFailure> {
+    let mut previous = f64::INFINITY;
+    let mut increment = f64::INFINITY;
+    for _ in 0..cfg.max_iter {
+        let (value, j) = f(x);
+        let det = j[(0, 0)] * j[(1, 1)] - j[(0, 1)] * j[(1, 0)];
+        if det == 0.0 {
+            return Err(StepFailure::Singular);
+        }
+        // Cramer's rule: the reciprocal of the determinant is computed beside the numerators.
+        let numerators = Vector::<2>::new(
+            j[(0, 1)] * value[1] - j[(1, 1)] * value[0],
+            j[(1, 0)] * value[0] - j[(0, 0)] * value[1],
+        );
+        let dx = numerators * (1.0 / det);
+        *x += dx;
+        increment = dx.amax();
+        if !increment.is_finite() {
+            return Err(StepFailure::NonFinite);
+        }
+        if cfg.converged(increment, previous, 1.0 + x.amax()) {
+            return Ok(dx);
+        }
+        previous = increment;
+    }
+    Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment })
+}
+
 /// One Newton step for the scalar equation `f(x) = 0`, in place: the solution when `f` is
 /// affine (then the step is exact, and a second one would only confirm it).
 #[inline]

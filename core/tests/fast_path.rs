@@ -6,7 +6,7 @@
 
 mod common;
 use common::{preset_start, size};
-use nhlab_core::methods::{Dla, Dla01};
+use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01};
 use nhlab_core::{Method, System};
 
 const STEPS: usize = 2000;
@@ -21,6 +21,10 @@ fn pairs() -> Vec<(Method, Method)> {
     }
     let fast = Dla01::default();
     out.push((Method::Dla01(fast), Method::Dla01(Dla01 { fast_path: false, ..fast })));
+    let fast = Dd::default();
+    out.push((Method::Dd(fast), Method::Dd(Dd { fast_path: false, ..fast })));
+    let fast = DdAvf::default();
+    out.push((Method::DdAvf(fast), Method::DdAvf(DdAvf { fast_path: false, ..fast })));
     out
 }
 

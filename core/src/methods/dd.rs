@@ -5,11 +5,15 @@
 //! Where V is quadratic, Gonzalez's correction is only the rounding of `q₁` (see
 //! [`discrete_gradient`]) and the discrete gradient is otherwise `∇V(q̄)`.
 //! Implicit in `(q̇₁, λ)`, solved by Newton with the Jacobian derived below (exact, but for
-//! the derivatives of that rounding), starting
-//! from Euler's step with the driver's speed extrapolated from the last steps
+//! the derivatives of that rounding). Where V is quadratic, by default in the two unknowns
+//! that remain once the midpoint constraint is built in and λ projected out
+//! ([`dd_reduced`](super::dd_reduced)); elsewhere (or with `fast_path: false`) in `(q̇₁, λ)`
+//! as written in MATH.md §3, starting from Euler's step with the driver's speed extrapolated
+//! from the last steps
 //! ([`DriverHistory`](crate::driver_history::DriverHistory)), which saves the third iteration
 //! on most steps.
 
+use super::dd_reduced::{self, reduced_step};
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::{Linearization, NewtonConfig, solve};
@@ -17,10 +21,20 @@ use crate::system::{DriverTerms, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector};
 
 /// The discrete-derivative method.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Dd {
     /// Newton's settings.
     pub newton: NewtonConfig,
+    /// Where V is quadratic, solve Newton in the two unknowns of the kernel of `A(q̄)`
+    /// (`dd_reduced`; same steps to round-off); `false` forces the general `(q̇₁, λ)` solve,
+    /// which it is tested against.
+    pub fast_path: bool,
+}
+
+impl Default for Dd {
+    fn default() -> Self {
+        Self { newton: NewtonConfig::default(), fast_path: true }
+    }
 }
 
 static INFO: MethodInfo = MethodInfo {
@@ -106,9 +120,14 @@ impl Integrator for Dd {
         let q0 = st.q;
         // Gonzalez's correction makes the Jacobian dense unless V is quadratic.
         let diagonal = S::QUADRATIC_PASSENGER && S::QUADRATIC_DRIVER;
-        discrete_derivative_step(sys, st, h, &self.newton, diagonal, |dq, mid, end| {
+        let gradient = |dq: &Vector<N>, mid: &DriverTerms<N, R>, end: &mut AngleTracker| {
             discrete_gradient(sys, (&q0, v_q0), dq, h, mid, end)
-        })
+        };
+        if self.fast_path && dd_reduced::applies::<S, N, R>() {
+            reduced_step(sys, st, h, &self.newton, gradient)
+        } else {
+            discrete_derivative_step(sys, st, h, &self.newton, diagonal, gradient)
+        }
     }
 }
 

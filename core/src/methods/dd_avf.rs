@@ -10,6 +10,7 @@
 //! alone, so the method can preserve the fibration while conserving H.
 
 use super::dd::discrete_derivative_step;
+use super::dd_reduced::{self, reduced_step};
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::NewtonConfig;
@@ -17,10 +18,18 @@ use crate::system::{DriverTerms, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector};
 
 /// The discrete-derivative method with the AVF discrete gradient.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DdAvf {
     /// Newton's settings.
     pub newton: NewtonConfig,
+    /// Solve Newton in the kernel's two unknowns, as [`Dd::fast_path`](super::Dd).
+    pub fast_path: bool,
+}
+
+impl Default for DdAvf {
+    fn default() -> Self {
+        Self { newton: NewtonConfig::default(), fast_path: true }
+    }
 }
 
 static INFO: MethodInfo = MethodInfo {
@@ -105,10 +114,15 @@ impl Integrator for DdAvf {
     ) -> Result<(), StepFailure> {
         let q0 = st.q;
         let vd0 = st.driver_potential_and_constraint(sys).0;
-        discrete_derivative_step(sys, st, h, &self.newton, true, |dq, mid, end| {
+        let gradient = |dq: &Vector<N>, mid: &DriverTerms<N, R>, end: &mut AngleTracker| {
             // dq₁/dq̇₁ = (h/2) I.
             let (grad, jac) = avf_gradient(sys, (&q0, vd0), dq, mid, end);
             (grad, jac * (0.5 * h))
-        })
+        };
+        if self.fast_path && dd_reduced::applies::<S, N, R>() {
+            reduced_step(sys, st, h, &self.newton, gradient)
+        } else {
+            discrete_derivative_step(sys, st, h, &self.newton, true, gradient)
+        }
     }
 }
