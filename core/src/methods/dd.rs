@@ -131,6 +131,18 @@ impl Integrator for Dd {
     }
 }
 
+/// A discrete gradient as the discrete-derivative steps take it: `(Δq, the driver's terms at
+/// ζ̄, a tracker of ζ₁) ↦ (∇̄V(q₀, q₀ + Δq), its derivative with respect to q̇₁)`.
+pub(crate) trait DiscreteGradient<const N: usize, const R: usize>:
+    FnMut(&Vector<N>, &DriverTerms<N, R>, &mut AngleTracker) -> (Vector<N>, Matrix<N, N>)
+{
+}
+
+impl<F, const N: usize, const R: usize> DiscreteGradient<N, R> for F where
+    F: FnMut(&Vector<N>, &DriverTerms<N, R>, &mut AngleTracker) -> (Vector<N>, Matrix<N, N>)
+{
+}
+
 /// One step of the discrete-derivative family (MATH.md §3) for a given discrete gradient:
 /// `gradient(Δq, terms at ζ̄, tracker of ζ₁)` returns `∇̄V(q₀, q₀ + Δq)` and its derivative
 /// with respect to `q̇₁`; if it evaluates the driver at ζ₁ through the tracker, the terms at
@@ -145,11 +157,7 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
     h: f64,
     newton: &NewtonConfig,
     diagonal_gradient_jacobian: bool,
-    mut gradient: impl FnMut(
-        &Vector<N>,
-        &DriverTerms<N, R>,
-        &mut AngleTracker,
-    ) -> (Vector<N>, Matrix<N, N>),
+    mut gradient: impl DiscreteGradient<N, R>,
 ) -> Result<(), StepFailure> {
     let (q0, v0) = (st.q, st.v);
     let (g0, a0) = st.gradient_and_constraint(sys);

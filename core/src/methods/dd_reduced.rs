@@ -23,9 +23,10 @@
 //! from the exact solution up to DD's rounding term and takes one iteration. Same steps as
 //! the general path to 10⁻¹³ (`tests/fast_path.rs`); speed in `docs/benchmarks.md`.
 
+use super::dd::DiscreteGradient;
 use crate::angle_tracker::AngleTracker;
 use crate::newton::{NewtonConfig, solve_pair};
-use crate::system::{DriverTerms, System};
+use crate::system::System;
 use crate::{Matrix, State, StepFailure, Vector, linalg};
 
 /// Whether the reduced solve applies to a system: V quadratic (then Newton's first guess is
@@ -81,11 +82,7 @@ pub(crate) fn reduced_step<S: System<N, R>, const N: usize, const R: usize>(
     st: &mut State<N, R>,
     h: f64,
     newton: &NewtonConfig,
-    mut gradient: impl FnMut(
-        &Vector<N>,
-        &DriverTerms<N, R>,
-        &mut AngleTracker,
-    ) -> (Vector<N>, Matrix<N, N>),
+    mut gradient: impl DiscreteGradient<N, R>,
 ) -> Result<(), StepFailure> {
     let (q0, v0) = (st.q, st.v);
     let z0 = q0[N - 1];
