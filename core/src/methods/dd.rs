@@ -123,11 +123,7 @@ impl Integrator for Dd {
         let gradient = |dq: &Vector<N>, mid: &DriverTerms<N, R>, end: &mut AngleTracker| {
             discrete_gradient(sys, (&q0, v_q0), dq, h, mid, end)
         };
-        if self.fast_path && dd_reduced::applies::<S, N, R>() {
-            reduced_step(sys, st, h, &self.newton, gradient)
-        } else {
-            discrete_derivative_step(sys, st, h, &self.newton, diagonal, gradient)
-        }
+        discrete_derivative_step(sys, st, h, (&self.newton, self.fast_path), diagonal, gradient)
     }
 }
 
@@ -148,17 +144,21 @@ impl<F, const N: usize, const R: usize> DiscreteGradient<N, R> for F where
 /// with respect to `q̇₁`; if it evaluates the driver at ζ₁ through the tracker, the terms at
 /// the step's end follow from its last iterate by a tiny rotation. `diagonal_gradient_jacobian`
 /// says whether that derivative can be diagonal (then Newton's matrix is checked for the
-/// shape that [`linalg::inverse_maybe_bordered`](crate::linalg) inverts cheaply).
-/// Shared by `dd` (Gonzalez) and `dd_avf` (average vector field).
+/// shape that [`linalg::inverse_maybe_bordered`](crate::linalg) inverts cheaply). With
+/// `fast_path`, where [`dd_reduced`](super::dd_reduced) applies, the step is solved there in
+/// two unknowns instead. Shared by `dd` (Gonzalez) and `dd_avf` (average vector field).
 #[inline]
 pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
     st: &mut State<N, R>,
     h: f64,
-    newton: &NewtonConfig,
+    (newton, fast_path): (&NewtonConfig, bool),
     diagonal_gradient_jacobian: bool,
     mut gradient: impl DiscreteGradient<N, R>,
 ) -> Result<(), StepFailure> {
+    if fast_path && dd_reduced::applies::<S, N, R>() {
+        return reduced_step(sys, st, h, newton, gradient);
+    }
     let (q0, v0) = (st.q, st.v);
     let (g0, a0) = st.gradient_and_constraint(sys);
     let euler = (v0 + h * (a0.transpose() * st.lambda - g0), st.lambda);

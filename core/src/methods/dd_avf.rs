@@ -10,7 +10,6 @@
 //! alone, so the method can preserve the fibration while conserving H.
 
 use super::dd::discrete_derivative_step;
-use super::dd_reduced::{self, reduced_step};
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::NewtonConfig;
@@ -121,10 +120,6 @@ impl Integrator for DdAvf {
             let (grad, jac) = avf_gradient(sys, (&q0, vd0), dq, mid, end);
             (grad, jac * (0.5 * h))
         };
-        if self.fast_path && dd_reduced::applies::<S, N, R>() {
-            reduced_step(sys, st, h, &self.newton, gradient)
-        } else {
-            discrete_derivative_step(sys, st, h, &self.newton, true, gradient)
-        }
+        discrete_derivative_step(sys, st, h, (&self.newton, self.fast_path), true, gradient)
     }
 }

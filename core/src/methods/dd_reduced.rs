@@ -62,7 +62,7 @@ fn passenger_kernel<const N: usize, const R: usize>(
     (k, dk)
 }
 
-/// What the last Newton linearization computed, from which the step's λ follows.
+/// What the last Newton linearization computed, from which the step's q̇₁ and λ follow.
 struct Last<const N: usize> {
     /// `q̇₀ + q̇₁` there.
     s: Vector<N>,
