@@ -71,6 +71,35 @@ fn dd_conserves_energy_over_1e5_steps() {
     for_each_system!(dd_energy);
 }
 
+/// The test above starts each system from its first preset, where ζ stays bounded. On a
+/// rotating driver ζ grows without bound (to 2.3·10⁴ here) and is stored to ulp(ζ), 4·10⁻¹²
+/// at the end; V_d and A are evaluated at that rounded angle, so DD's energy balance is off
+/// by about V_d'·ulp(ζ) every step and the error walks like √N·ulp(ζ): measured 2.6·10⁻¹¹ of
+/// H over 10⁵ steps of the paper's rotating, perturbed CVT, above the 10⁻¹² asked for (issue
+/// 2); 8× more when the same run starts at ζ₀ + 2π·5000, 25× at ζ₀ + 2π·50000 (2026-11-23).
+/// Keeping ζ within a turn would fix it (not done: the latitude's sections and the final
+/// states count whole turns). Asserted as measured, with a factor of 4, so that a change for
+/// the worse shows.
+#[test]
+fn dd_energy_on_a_rotating_driver_is_limited_by_the_angles_rounding() {
+    use nhlab_core::systems::CvtPendulum;
+    let (sys, mut st, h) = preset_start::<CvtPendulum, 3, 1>(3);
+    assert_eq!(CvtPendulum::info().presets[3].id, "rotating-perturbed");
+    let h0 = sys.energy(&st.q, &st.v);
+    let mut worst: f64 = 0.0;
+    for _ in 0..100_000 {
+        method("dd").step(&sys, &mut st, h).unwrap();
+        worst = worst.max((sys.energy(&st.q, &st.v) - h0).abs());
+    }
+    let rel = worst / h0.abs();
+    println!(
+        "cvt_pendulum/rotating-perturbed: dd max |H − H(0)|/|H(0)| over 1e5 steps = {rel:.2e}, ζ = {:.3e}",
+        st.q[2]
+    );
+    assert!(st.q[2] > 2e4, "the driver rotates");
+    assert!(rel <= 1e-10, "relative energy error {rel:e}");
+}
+
 /// One step, flip the velocity (λ unchanged), one step, flip again: distance to the start.
 fn round_trip<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
