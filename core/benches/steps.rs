@@ -2,7 +2,6 @@
 //! `cargo bench -p nhlab-core`; numbers go to docs/benchmarks.md.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01};
 use nhlab_core::systems::*;
 use nhlab_core::{
     Method, MethodSpec, Observer, RunConfig, Scene, SceneRequest, State, System, Vector,
@@ -24,16 +23,11 @@ fn methods() -> Vec<(String, Method)> {
             out.push((m.label(), m));
         }
     }
-    for m in out.clone().into_iter().map(|(_, m)| m) {
-        let general = match m {
-            Method::Dla(d) => Method::Dla(Dla { fast_path: false, ..d }),
-            Method::Dla01(d) => Method::Dla01(Dla01 { fast_path: false, ..d }),
-            Method::Dd(d) => Method::Dd(Dd { fast_path: false, ..d }),
-            Method::DdAvf(d) => Method::DdAvf(DdAvf { fast_path: false, ..d }),
-            _ => continue,
-        };
-        out.push((format!("{} general", m.label()), general));
-    }
+    let general: Vec<_> = out
+        .iter()
+        .filter_map(|(label, m)| Some((format!("{label} general"), m.general_path()?)))
+        .collect();
+    out.extend(general);
     out
 }
 

@@ -131,6 +131,19 @@ pub fn method_info(id: &str) -> Option<&'static MethodInfo> {
 }
 
 impl Method {
+    /// The same method on its general Newton path (`fast_path: false`), for a method that has
+    /// a faster one: what the fast paths are tested against (`tests/fast_path.rs`) and
+    /// benchmarked beside. `None` for the others.
+    pub fn general_path(&self) -> Option<Method> {
+        Some(match *self {
+            Method::Dla(m) => Method::Dla(Dla { fast_path: false, ..m }),
+            Method::Dla01(m) => Method::Dla01(Dla01 { fast_path: false, ..m }),
+            Method::Dd(m) => Method::Dd(Dd { fast_path: false, ..m }),
+            Method::DdAvf(m) => Method::DdAvf(DdAvf { fast_path: false, ..m }),
+            Method::Leapfrog(_) | Method::Rk4(_) => return None,
+        })
+    }
+
     /// Builds a method from a spec, checking its parameters (field paths are relative to
     /// the method object, e.g. `alpha`).
     pub fn from_spec(spec: &MethodSpec) -> Result<Self, InputError> {

@@ -15,17 +15,17 @@ const TOL: f64 = 1e-13;
 
 /// Pairs (fast, general) of every method that has a fast path.
 fn pairs() -> Vec<(Method, Method)> {
-    let mut out = Vec::new();
-    for alpha in [0.5, 0.4, 1.0] {
-        let fast = Dla { alpha, ..Dla::default() };
-        out.push((Method::Dla(fast), Method::Dla(Dla { fast_path: false, ..fast })));
-    }
-    let fast = Dla01::default();
-    out.push((Method::Dla01(fast), Method::Dla01(Dla01 { fast_path: false, ..fast })));
-    let fast = Dd::default();
-    out.push((Method::Dd(fast), Method::Dd(Dd { fast_path: false, ..fast })));
-    let fast = DdAvf::default();
-    out.push((Method::DdAvf(fast), Method::DdAvf(DdAvf { fast_path: false, ..fast })));
+    let dla = [0.5, 0.4, 1.0].map(|alpha| Method::Dla(Dla { alpha, ..Dla::default() }));
+    let others = [
+        Method::Dla01(Dla01::default()),
+        Method::Dd(Dd::default()),
+        Method::DdAvf(DdAvf::default()),
+    ];
+    let out: Vec<_> =
+        dla.into_iter().chain(others).filter_map(|m| Some((m, m.general_path()?))).collect();
+    assert_eq!(out.len(), 6, "every fast path has its general path");
+    // A general path equal to the fast one would make the comparison below vacuous.
+    assert!(out.iter().all(|(fast, general)| fast != general));
     out
 }
 
