@@ -60,6 +60,15 @@ impl<const N: usize> DriverHistory<N> {
         })
     }
 
+    /// Follows a state moved from `from` to `to` that stands for the same configuration
+    /// (whole turns of an angle taken off, `State::take_whole_turns`).
+    #[inline]
+    pub(crate) fn moved(&mut self, from: &Vector<N>, to: &Vector<N>) {
+        if self.q == *from {
+            self.q = *to;
+        }
+    }
+
     /// Records a step of size `h` from `(q₀, q̇₀)` to `(q₁, q̇₁)`.
     #[inline]
     pub(crate) fn record(

@@ -131,6 +131,11 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
 ) -> RunOutcome {
     let (sys, h) = (problem.sys, problem.step);
     let mut st = problem.start;
+    // Where ζ is an angle the state keeps it within a turn, and counts the turns taken off
+    // here, for what needs ζ as the run started it (the latitude's sections, the final state).
+    let take_turns =
+        |st: &mut State<N, R>| if S::ZETA_IS_ANGLE { st.take_whole_turns() } else { 0.0 };
+    let mut turns = take_turns(&mut st);
     let energies = problem.integrals.iter().any(|&i| index_of(i) < 3);
     let constraint = problem.integrals.contains(&Integral::Constraint);
     let v0 = values(sys, &st, energies, constraint);
@@ -153,7 +158,8 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
         problem.latitude.filter(|_| problem.integrals.contains(&Integral::Latitude)).map(|axis| {
             observer.initial(Integral::Latitude, axis.latitude0);
             let planned = axis.crossings_until(problem.steps as f64 * h);
-            (LatitudeTracker::new(axis, &st.q, &st.v), Bucketer::new(planned, cfg.points))
+            let tracker = LatitudeTracker::new(axis, &problem.start.q, &problem.start.v);
+            (tracker, Bucketer::new(planned, cfg.points))
         });
     let every = cfg.progress_every.max(1);
     // A countdown rather than `k % every`: no division per step.
@@ -176,6 +182,7 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
                 StepFailure::Diverged { limit: DIVERGED }
             });
         }
+        turns += take_turns(&mut st);
         let t = k as f64 * h;
         let now = values(sys, &st, energies, constraint);
         if let Some(b) = lanes.push(t, std::array::from_fn(|i| (now[i] - initial[i]).abs())) {
@@ -184,7 +191,7 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
             }
         }
         if let Some((tracker, buckets)) = latitude.as_mut()
-            && let Some((tc, e)) = tracker.observe(sys, t, &st.q, &st.v)
+            && let Some((tc, e)) = tracker.observe(sys, t, &st.q_with_turns(turns), &st.v)
             && let Some(b) = buckets.push(tc, e)
         {
             observer.points(Integral::Latitude, b);
@@ -206,6 +213,6 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
     {
         observer.points(Integral::Latitude, b);
     }
-    observer.finish(st.q.as_slice(), st.v.as_slice());
+    observer.finish(st.q_with_turns(turns).as_slice(), st.v.as_slice());
     RunOutcome { steps: problem.steps, error: None }
 }
