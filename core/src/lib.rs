@@ -29,6 +29,7 @@ pub mod simulate;
 pub mod state;
 pub mod system;
 pub mod systems;
+pub(crate) mod whole_turns;
 pub mod work_precision;
 
 pub use bucket::{Bucket, Bucketer};

@@ -2,7 +2,6 @@
 
 use crate::driver_history::DriverHistory;
 use crate::{Matrix, Vector, system::System};
-use std::f64::consts::{PI, TAU};
 
 /// Position, velocity and multiplier; every method carries `λ` (leap-frog needs it, the
 /// implicit methods start Newton from it).
@@ -227,69 +226,21 @@ impl<const N: usize, const R: usize> State<N, R> {
         (self.q.sum() + self.v.sum() + self.lambda.sum()).is_finite()
     }
 
-    /// Takes whole turns off ζ once it has left [−π, π], for a system whose ζ is an angle
-    /// ([`System::ZETA_IS_ANGLE`]: `A` and `V_d` are 2π-periodic and `U` does not depend on
-    /// ζ, so the steps and the integrals are those of the same state). Returns the turns
-    /// taken. Why: ζ is stored to ulp(ζ), and the systems' functions see only the stored ζ;
-    /// on a rotating driver ζ grows without bound, and at ζ = 3·10⁴ that rounding (4·10⁻¹²)
-    /// made DD's energy error walk to 2.6·10⁻¹¹ of H in 10⁵ steps. Within a turn it is
-    /// 4·10⁻¹⁶. The turn is taken off in two parts (Cody and Waite), the second one through
-    /// the compensation, so the angle the state stands for moves by 2π to 10⁻²³ per turn;
-    /// the caches keyed by `q` follow it.
+    /// Moves `q` to `to`, which stands for the same configuration (whole turns of an angle
+    /// taken off, [`State::take_whole_turns`]), and the compensation to `compensation`; the
+    /// caches that were keyed by the old `q` follow it.
     #[inline]
-    pub fn take_whole_turns(&mut self) -> f64 {
-        let zeta = self.q[N - 1];
-        // Not taken for |ζ| ≤ π, nor for NaN (whose run ends on it).
-        if zeta.abs() > PI { self.take_turns(zeta) } else { 0.0 }
-    }
-
-    /// `q` with `turns` whole turns (as [`State::take_whole_turns`] counted them) put back
-    /// on ζ: the configuration in the coordinates the run started in, to ulp of its ζ.
-    #[inline]
-    pub fn q_with_turns(&self, turns: f64) -> Vector<N> {
-        let mut q = self.q;
-        if turns != 0.0 {
-            q[N - 1] = turns * TAU_HI + (q[N - 1] + (self.q_compensation[N - 1] + turns * TAU_LO));
+    pub(crate) fn move_to_same_configuration(&mut self, to: Vector<N>, compensation: Vector<N>) {
+        let from = self.q;
+        (self.q, self.q_compensation) = (to, compensation);
+        if self.at_end.q == from {
+            self.at_end.q = to;
         }
-        q
-    }
-
-    /// The rare part of [`State::take_whole_turns`], out of line so that the test inlines.
-    #[inline(never)]
-    fn take_turns(&mut self, zeta: f64) -> f64 {
-        let k = (zeta / TAU).round().clamp(-MAX_TURNS, MAX_TURNS);
-        // k·TAU_HI is exact; the difference is too but where ζ is huge, and two_sum keeps
-        // what it rounds away either way.
-        let (s, e) = two_sum(zeta, -(k * TAU_HI));
-        let (s, e) = two_sum(s, e + (self.q_compensation[N - 1] - k * TAU_LO));
-        let old = self.q;
-        self.q[N - 1] = s;
-        self.q_compensation[N - 1] = e;
-        if self.at_end.q == old {
-            self.at_end.q = self.q;
+        if self.acceleration_at_end.q == from {
+            self.acceleration_at_end.q = to;
         }
-        if self.acceleration_at_end.q == old {
-            self.acceleration_at_end.q = self.q;
-        }
-        self.driver_history.moved(&old, &self.q);
-        k
+        self.driver_history.moved(&from, &to);
     }
-}
-
-/// 2π in two parts: `TAU_HI` has 26 significant bits, so `k·TAU_HI` is exact for
-/// |k| ≤ [`MAX_TURNS`], and `TAU_HI + TAU_LO` is 2π to 2.5·10⁻²⁴.
-const TAU_HI: f64 = 6.283_185_243_606_567; // 0x1.921fb5p+2
-const TAU_LO: f64 = 6.357_301_909_411_278e-8;
-/// Most turns taken at once (only a start far out takes more than one; it takes the rest on
-/// the following steps).
-const MAX_TURNS: f64 = (1u64 << 26) as f64;
-
-/// Knuth's two-sum: `a + b` rounded, and what the rounding lost, exactly.
-#[inline]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
 }
 
 /// An `early` part of nothing: `−0.0 + e` is `e` exactly (for `e = ±0.0` too), so the
@@ -366,48 +317,31 @@ mod tests {
     }
 
     #[test]
-    fn whole_turns_leave_the_configuration_and_the_caches() {
+    fn the_caches_follow_a_state_moved_to_the_same_configuration() {
         use crate::methods::Dd;
         let sys = CvtPendulum { epsilon: 0.5 };
         let p = &CvtPendulum::info().presets[3];
         let (q, v) = (Vector::from_column_slice(p.q), Vector::from_column_slice(p.v));
         let mut st = State::with_continuous_multiplier(&sys, q, v).unwrap();
-        assert_eq!(st.take_whole_turns(), 0.0, "ζ within [−π, π] stays");
-        let (mut kept, mut turns) = (st, 0.0);
-        for k in 0..20_000 {
+        for k in 0..40 {
             Dd::default().step(&sys, &mut st, 0.1).unwrap();
-            Dd::default().step(&sys, &mut kept, 0.1).unwrap();
-            let before = kept;
-            let taken = kept.take_whole_turns();
-            turns += taken;
-            if taken != 0.0 {
-                // Same configuration, in other coordinates; the caches follow it.
-                assert!(kept.q[2].abs() <= PI && taken.abs() == 1.0, "step {k}");
-                let back = kept.q_with_turns(taken)[2] - before.q[2];
-                assert!(back.abs() <= f64::EPSILON * 8.0, "step {k}: {back:e}");
-                assert_eq!(kept.at_end.q, kept.q);
-                assert_eq!(kept.driver_history.guess(&kept.q, &kept.v, 0.1).is_some(), k >= 2);
-            }
-        }
-        // 500 turns later the two runs are the same but for the rounding of ζ.
-        assert!(turns > 500.0, "{turns}");
-        let gap = (kept.q_with_turns(turns) - st.q).amax().max((kept.v - st.v).amax());
-        assert!(gap < 1e-9, "{gap:e}");
-        // A start far out takes its turns at once, to the accuracy ζ had.
-        let zeta = 1e6 * TAU + 1.0;
-        let mut far =
-            State::with_continuous_multiplier(&sys, Vector::<3>::new(1.0, 1.0, zeta), v).unwrap();
-        let taken = far.take_whole_turns();
-        assert_eq!(taken, 1e6);
-        assert!((far.q[2] + far.q_compensation[2] - (zeta - 1e6 * TAU)).abs() < 1e-9);
-        assert!((far.q_with_turns(taken)[2] - zeta).abs() <= 1e-9);
-        // NaN and infinity neither panic nor pass for a number.
-        for bad in [f64::NAN, f64::INFINITY] {
-            let mut st = far;
-            st.q[2] = bad;
+            // Within a turn again (the driver turns once in 2.2 steps here).
             st.take_whole_turns();
-            assert!(!st.is_finite());
+            assert!(st.q[2].abs() <= std::f64::consts::PI);
+            assert_eq!(st.at_end.q, st.q, "∇V and A at the end are still known");
+            assert_eq!(st.driver_history.guess(&st.q, &st.v, 0.1).is_some(), k >= 2);
         }
+        Rk4.step(&sys, &mut st, 0.1).unwrap();
+        let mut moved = st;
+        moved.q[2] += 6.0;
+        moved.move_to_same_configuration(st.q, st.q_compensation);
+        assert_eq!(moved.acceleration_at_end.q, st.q, "the key follows");
+        let mut elsewhere = st;
+        elsewhere.q[2] += 6.0;
+        let (to, c) = (elsewhere.q, elsewhere.q_compensation);
+        elsewhere.q[2] += 1.0;
+        elsewhere.move_to_same_configuration(to, c);
+        assert_eq!(elsewhere.acceleration(), None, "a cache of another q is not adopted");
     }
 
     #[test]
