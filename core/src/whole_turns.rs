@@ -86,7 +86,7 @@ mod tests {
         let mut st = State::with_continuous_multiplier(&sys, q, v).unwrap();
         assert_eq!(st.take_whole_turns(), 0.0, "ζ within [−π, π] stays");
         let (mut kept, mut turns) = (st, 0.0);
-        for k in 0..20_000 {
+        for k in 0..2000 {
             Dd::default().step(&sys, &mut st, 0.1).unwrap();
             Dd::default().step(&sys, &mut kept, 0.1).unwrap();
             let before = kept;
@@ -99,10 +99,11 @@ mod tests {
                 assert!(back.abs() <= f64::EPSILON * 8.0, "step {k}: {back:e}");
             }
         }
-        // 500 turns later the two runs are the same but for the rounding of ζ.
-        assert!(turns > 500.0, "{turns}");
+        // 70 turns later the two runs are the same but for the rounding of ζ (over 20,000
+        // steps the motion's sensitivity makes that 10⁻⁹).
+        assert!(turns > 70.0, "{turns}");
         let gap = (kept.q_with_turns(turns) - st.q).amax().max((kept.v - st.v).amax());
-        assert!(gap < 1e-9, "{gap:e}");
+        assert!(gap < 1e-11, "{gap:e}");
         // A start far out takes its turns at once, to the accuracy ζ had.
         let zeta = 1e6 * TAU + 1.0;
         let mut far =

@@ -146,7 +146,9 @@ impl<F, const N: usize, const R: usize> DiscreteGradient<N, R> for F where
 /// says whether that derivative can be diagonal (then Newton's matrix is checked for the
 /// shape that [`linalg::inverse_maybe_bordered`](crate::linalg) inverts cheaply). With
 /// `fast_path`, where [`dd_reduced`](super::dd_reduced) applies, the step is solved there in
-/// two unknowns instead. Shared by `dd` (Gonzalez) and `dd_avf` (average vector field).
+/// two unknowns instead (DD's default; DD-AVF's fast path is `dd_avf_coupled`, and it comes
+/// here only with `fast_path: false`). Shared by `dd` (Gonzalez) and `dd_avf` (average vector
+/// field).
 #[inline]
 pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,

@@ -10,6 +10,7 @@
 //! alone, so the method can preserve the fibration while conserving H.
 
 use super::dd::discrete_derivative_step;
+use super::dd_avf_coupled::{self, coupled_step};
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::NewtonConfig;
@@ -21,7 +22,9 @@ use crate::{InputError, Matrix, State, StepFailure, Vector};
 pub struct DdAvf {
     /// Newton's settings.
     pub newton: NewtonConfig,
-    /// Solve Newton in the kernel's two unknowns, as [`Dd::fast_path`](super::Dd).
+    /// Take the coupled fast path where U is quadratic (every test system): the driver's
+    /// update alone, then the passenger's as one linear solve (`dd_avf_coupled`); `false`
+    /// forces the general Newton solve in `(q̇₁, λ)`, which it is tested against.
     pub fast_path: bool,
 }
 
@@ -76,10 +79,26 @@ fn avf_gradient<S: System<N, R>, const N: usize, const R: usize>(
             (g + w * sys.passenger_gradient(&q), j + (w * s) * sys.passenger_hessian(&q))
         })
     };
-    let (z0, dz) = (q0[N - 1], dq[N - 1]);
     let (g, dg) = if S::QUADRATIC_DRIVER {
         (mid.potential_d1, 0.5 * mid.potential_d2)
-    } else if dz.abs() >= CLOSED_FORM_MIN {
+    } else {
+        avf_driver_mean(sys, (q0[N - 1], vd0), dq[N - 1], end)
+    };
+    grad[N - 1] = g;
+    jac[(N - 1, N - 1)] = dg;
+    (grad, jac)
+}
+
+/// The driver's part of the AVF gradient, `ḡ = ∫₀¹ V_d'(ζ₀ + sΔζ) ds`, and its derivative
+/// with respect to ζ₁, given `V_d(ζ₀)`; V_d at ζ₁ through the tracker.
+#[inline]
+pub(super) fn avf_driver_mean<S: System<N, R>, const N: usize, const R: usize>(
+    sys: &S,
+    (z0, vd0): (f64, f64),
+    dz: f64,
+    end: &mut AngleTracker,
+) -> (f64, f64) {
+    if dz.abs() >= CLOSED_FORM_MIN {
         // One reciprocal, computed beside the terms at ζ₁, instead of two dependent divisions.
         let inv = 1.0 / dz;
         let at_z1 = end.terms(sys, z0 + dz);
@@ -90,10 +109,7 @@ fn avf_gradient<S: System<N, R>, const N: usize, const R: usize>(
             let z = z0 + s * dz;
             (g + w * sys.driver_potential_d1(z), dg + w * s * sys.driver_potential_d2(z))
         })
-    };
-    grad[N - 1] = g;
-    jac[(N - 1, N - 1)] = dg;
-    (grad, jac)
+    }
 }
 
 impl Integrator for DdAvf {
@@ -113,6 +129,9 @@ impl Integrator for DdAvf {
         st: &mut State<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
+        if self.fast_path && dd_avf_coupled::applies::<S, N, R>() {
+            return coupled_step(sys, st, h, &self.newton);
+        }
         let q0 = st.q;
         let vd0 = st.driver_potential_and_constraint(sys).0;
         let gradient = |dq: &Vector<N>, mid: &DriverTerms<N, R>, end: &mut AngleTracker| {
@@ -120,6 +139,6 @@ impl Integrator for DdAvf {
             let (grad, jac) = avf_gradient(sys, (&q0, vd0), dq, mid, end);
             (grad, jac * (0.5 * h))
         };
-        discrete_derivative_step(sys, st, h, (&self.newton, self.fast_path), true, gradient)
+        discrete_derivative_step(sys, st, h, (&self.newton, false), true, gradient)
     }
 }

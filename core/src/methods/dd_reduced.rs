@@ -1,5 +1,5 @@
-//! The reduced Newton solve of the discrete-derivative family (`dd`, `dd_avf`): the same
-//! equations as [`discrete_derivative_step`](super::dd::discrete_derivative_step), in two
+//! DD's reduced Newton solve where V is quadratic (DD-AVF has its own split,
+//! `dd_avf_coupled`, which needs no Newton for the passenger): the same equations as [`discrete_derivative_step`](super::dd::discrete_derivative_step), in two
 //! unknowns instead of `N + R`.
 //!
 //! The midpoint constraint `A(q̄)(q̇₀ + q̇₁) = 0` says that `s = q̇₀ + q̇₁` lies in the kernel of
@@ -88,7 +88,7 @@ pub(crate) fn reduced_step<S: System<N, R>, const N: usize, const R: usize>(
     let z0 = q0[N - 1];
     let (mut mid, mut end) = (AngleTracker::new(), AngleTracker::new());
     // Newton's first guess: the solution of the equations with ∇̄V replaced by ∇V(q̄), which
-    // differs from DD's only by Gonzalez's rounding term (and not at all for DD-AVF), so that
+    // differs from DD's only by Gonzalez's rounding term, so that
     // Newton's first increment is round-off and one iteration suffices. σ first, from the
     // driver's affine equation `σ − 2ζ̇₀ + h V_d'(ζ₀ + hσ/4) = 0`; then w from F₁, affine in w.
     let sigma = (2.0 * v0[N - 1] - h * st.gradient(sys)[N - 1])

@@ -1,0 +1,126 @@
+//! DD-AVF's coupled fast path: the driver alone, then the passenger as one linear problem.
+//!
+//! On a coupled system (A depends on ζ only and has no driver column) the average vector
+//! field splits `V = U(x) + V_d(ζ)`, and DD-AVF's driver row reads
+//!
+//! ```text
+//! ζ̇₁ − ζ̇₀ + h ḡ(ζ₀, ζ₁) = 0,   ḡ = (V_d(ζ₁) − V_d(ζ₀))/(ζ₁ − ζ₀),   ζ₁ = ζ₀ + h(ζ̇₀ + ζ̇₁)/2:
+//! ```
+//!
+//! one scalar equation that does not see the passenger, solved by scalar Newton (one step
+//! where V_d is quadratic, when it is affine). With ζ₁, hence ζ̄ and `Ā = A(ζ̄)`, known and U
+//! quadratic (the average of its affine gradient is `∇U(x̄)`, with Hessian K), the rest is
+//! linear:
+//!
+//! ```text
+//! (I + h²K/4) q̇₁ − h Āᵀλ = q̇₀ − h∇U(q₀) − h²K q̇₀/4,   Ā (q̇₀ + q̇₁) = 0,
+//! ```
+//!
+//! an N×N and an R×R solve, where the general path factors both on every Newton iteration
+//! of its `N + R` unknowns. This is the fast path issue 4 describes; the same equations give
+//! the same steps as the general path to 10⁻¹³ (`tests/fast_path.rs`), and the speed is in
+//! `docs/benchmarks.md`. DD (Gonzalez's gradient) has no such split: its correction term
+//! couples the driver's row to the passenger's motion.
+
+use super::dd_avf::avf_driver_mean;
+use crate::angle_tracker::AngleTracker;
+use crate::newton::{NewtonConfig, solve_affine_scalar, solve_scalar};
+use crate::system::System;
+use crate::{Matrix, State, StepFailure, linalg};
+
+/// Whether the split applies: U quadratic (every test system), so that the passenger's
+/// problem is linear once the driver is known.
+pub(crate) const fn applies<S: System<N, R>, const N: usize, const R: usize>() -> bool {
+    S::QUADRATIC_PASSENGER
+}
+
+/// One DD-AVF step by the split of the module's doc (only where it [`applies`]).
+#[inline]
+pub(crate) fn coupled_step<S: System<N, R>, const N: usize, const R: usize>(
+    sys: &S,
+    st: &mut State<N, R>,
+    h: f64,
+    newton: &NewtonConfig,
+) -> Result<(), StepFailure> {
+    let (q0, v0) = (st.q, st.v);
+    let (z0, zd0) = (q0[N - 1], v0[N - 1]);
+    let g0 = st.gradient(sys);
+    let vd0 = st.driver_potential_and_constraint(sys).0;
+    // The driver alone, in ζ̇₁. Its guess: extrapolated from the last steps where they are
+    // known (`DriverHistory`), Euler's otherwise, and Euler's again if Newton fails from the
+    // extrapolated one (as the general path does).
+    let euler = zd0 - h * g0[N - 1];
+    let extrapolated = st.driver_history.guess(&q0, &v0, h);
+    let mut end = AngleTracker::new();
+    let zd1 = if S::QUADRATIC_DRIVER {
+        // ḡ = V_d'(ζ̄) = V_d'(ζ₀) + V_d''·Δζ/2 exactly: affine, one step solves it.
+        let d2 = sys.driver_potential_d2(z0);
+        let mut zd1 = extrapolated.unwrap_or(euler);
+        solve_affine_scalar(&mut zd1, |zd1| {
+            let dz = 0.5 * h * (zd0 + zd1);
+            (zd1 - zd0 + h * (g0[N - 1] + 0.5 * d2 * dz), 1.0 + 0.25 * h * h * d2)
+        })?;
+        zd1
+    } else {
+        let mut driver = |zd1: f64| {
+            let (g, dg) = avf_driver_mean(sys, (z0, vd0), 0.5 * h * (zd0 + zd1), &mut end);
+            // dΔζ/dζ̇₁ = h/2.
+            (zd1 - zd0 + h * g, 1.0 + 0.5 * h * h * dg)
+        };
+        let mut zd1 = extrapolated.unwrap_or(euler);
+        match solve_scalar(newton, &mut zd1, &mut driver) {
+            Ok(_) => zd1,
+            Err(_) if extrapolated.is_some() => {
+                zd1 = euler;
+                solve_scalar(newton, &mut zd1, &mut driver)?;
+                zd1
+            }
+            Err(failure) => return Err(failure),
+        }
+    };
+    // The passenger, with Ā = A(ζ̄) (see the module's doc). K's driver row and Ā's driver
+    // column vanish, so that row reads q̇₁_ζ = ζ̇₁.
+    let z_mid = z0 + 0.25 * h * (zd0 + zd1);
+    let mut mid = AngleTracker::new();
+    let a_mid = mid.terms(sys, z_mid).constraint;
+    if S::QUADRATIC_DRIVER {
+        // Newton evaluated nothing at ζ₁: its sine and cosine are rotated from ζ̄'s by Δζ/2
+        // (a polynomial, not a library call, for |Δζ/2| ≤ ¼; `AngleTracker`). Where V_d is
+        // not quadratic, rotating ζ̄'s from ζ₁'s instead measured slower (cvt_pendulum
+        // 122 → 131 ns/step): it puts the polynomial on the step's chain after Newton.
+        end = mid;
+    }
+    let k = sys.passenger_hessian(&q0) * (0.25 * h * h);
+    let m = Matrix::<N, N>::identity() + k;
+    let mut rhs = v0 - h * g0 - k * v0;
+    rhs[N - 1] = zd1;
+    let m_inv = if N >= 4 { linalg::inverse_maybe_bordered(&m) } else { linalg::inverse(&m) }
+        .ok_or(StepFailure::Singular)?;
+    let (m_rhs, m_at) = (m_inv * rhs, m_inv * a_mid.transpose());
+    // Inverted once, for the solve and its refinement.
+    let schur_inv = linalg::inverse(&(a_mid * m_at)).ok_or(StepFailure::Singular)?;
+    let mut lambda = schur_inv * (a_mid * (m_rhs + v0)) * (-1.0 / h);
+    let mut v1 = m_rhs + h * (m_at * lambda);
+    v1[N - 1] = zd1;
+    // One step of iterative refinement: the residuals of the equations at the solution as
+    // computed, and the correction they call for. Without it DD-AVF's energy error was
+    // 20–100× the general path's after 10⁵ steps (knife edge 2.6·10⁻¹², against 8·10⁻¹⁴);
+    // with it, the same order (1.6·10⁻¹³; a second step gained nothing).
+    let s = v0 + v1;
+    let mut r1 = (v1 - v0) + h * g0 + k * s - h * (a_mid.transpose() * lambda);
+    r1[N - 1] = 0.0;
+    let m_r1 = m_inv * r1;
+    let d_lambda = schur_inv * (a_mid * m_r1 - a_mid * s) * (1.0 / h);
+    let mut dv = h * (m_at * d_lambda) - m_r1;
+    dv[N - 1] = 0.0;
+    v1 += dv;
+    lambda += d_lambda;
+    st.advance_to((v0 + v1) * (0.5 * h), v1);
+    st.lambda = lambda;
+    st.driver_history.record((&q0, &v0), h, (&st.q, &st.v));
+    // What the next step starts from and the integrals at q₁ need; the tracker rotates from
+    // Newton's last ζ₁.
+    let at_q1 = end.terms(sys, st.q[N - 1]);
+    st.remember_at_end(at_q1.gradient(sys, &st.q), at_q1.constraint, at_q1.potential);
+    Ok(())
+}
