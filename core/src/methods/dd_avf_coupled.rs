@@ -7,10 +7,10 @@
 //! ζ̇₁ − ζ̇₀ + h ḡ(ζ₀, ζ₁) = 0,   ḡ = (V_d(ζ₁) − V_d(ζ₀))/(ζ₁ − ζ₀),   ζ₁ = ζ₀ + h(ζ̇₀ + ζ̇₁)/2:
 //! ```
 //!
-//! one scalar equation that does not see the passenger, solved by scalar Newton (one step
-//! where V_d is quadratic, when it is affine). With ζ₁, hence ζ̄ and `Ā = A(ζ̄)`, known and U
-//! quadratic (the average of its affine gradient is `∇U(x̄)`, with Hessian K), the rest is
-//! linear:
+//! one scalar equation that does not see the passenger, solved by scalar Newton (a single
+//! step where V_d is quadratic, which makes it affine). With ζ₁, hence ζ̄ and `Ā = A(ζ̄)`,
+//! known and U quadratic (the average of its affine gradient is `∇U(x̄)`, with Hessian K),
+//! the rest is linear:
 //!
 //! ```text
 //! (I + h²K/4) q̇₁ − h Āᵀλ = q̇₀ − h∇U(q₀) − h²K q̇₀/4,   Ā (q̇₀ + q̇₁) = 0,
