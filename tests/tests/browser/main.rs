@@ -1,0 +1,69 @@
+//! The page in a real browser, against the real server.
+//!
+//! The server runs in-process on 127.0.0.1 port 0 ([`TestServer`]); headless Chromium is
+//! driven through chromedriver, which this test spawns on a free port, with fantoccini. One
+//! browser session checks, in order:
+//!
+//! 1. the paper's knife-edge experiment (one click) draws five curves, the progress bar
+//!    reaches 100 %, every run ends `ok`, and the console has no errors; a screenshot goes to
+//!    `<target>/screenshots/knife-edge.png`;
+//! 2. runs that fail (a step far too large) are marked failed, with the server's message;
+//! 3. a long run shows curves before it ends, and Cancel stops it;
+//! 4. editing the form rewrites the URL, and that URL restores the form;
+//! 5. a link with a bad parameter and `run=1` fills the form, runs by itself, and shows the
+//!    server's error next to the field its `path` names;
+//! 6. `?view=paper` draws every panel of the paper's four figures (five curves with data
+//!    each) with a verdict per method under it (`paper.png`, `paper-cvt.png`);
+//! 7. `?view=scorecard` shows a verdict cell for every method × paper scene × integral and
+//!    the property marks (`scorecard.png`); clicking a cell runs that scene in the main view;
+//! 8. `?view=work-precision` with a knife-edge scene draws both log–log plots (error against
+//!    run time, error against h) with a line per method, and each method's fitted order in
+//!    the legend and the table, LF and DLA^{0,1} near 2, DLA^0.4 near 1
+//!    (`work-precision.png`); the tab takes the Explore form's scene and methods; a run that
+//!    fails is listed as failed with its message, not drawn (`work-precision-failed.png`).
+//!
+//! Chromium and chromedriver are required, not optional: without them the test fails and
+//! says how to install them. `NHLAB_CHROMIUM` / `NHLAB_CHROMEDRIVER` override their paths.
+
+mod driver;
+mod explore;
+mod page;
+mod views;
+
+use driver::{Driver, required};
+use explore::{bad_parameter_link, cancel, failed_runs, form_in_the_url, knife_edge};
+use fantoccini::Client;
+use nhlab_tests::TestServer;
+use std::time::Duration;
+use views::{paper_view, scorecard_view, work_precision_view};
+
+/// How long a run of the knife-edge experiment may take in a debug build on a slow machine.
+const RUN_TIMEOUT: Duration = Duration::from_secs(120);
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_page_runs_the_knife_edge_experiment_in_a_real_browser() {
+    let chromium = required("NHLAB_CHROMIUM", &["chromium", "chromium-browser", "google-chrome"]);
+    let chromedriver = required("NHLAB_CHROMEDRIVER", &["chromedriver"]);
+    let server = TestServer::start().await;
+    let base = server.at("/");
+    let driver = Driver::start(&chromedriver);
+    let profile = tempfile::tempdir().expect("temporary Chromium profile");
+    let client = driver.session(&chromium, profile.path()).await;
+
+    let outcome = scenarios(&client, &driver, &base).await;
+    let _ = client.close().await;
+    if let Err(message) = outcome {
+        panic!("{message}");
+    }
+}
+
+async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), String> {
+    knife_edge(client, driver, base).await?;
+    failed_runs(client, driver, base).await?;
+    cancel(client, driver, base).await?;
+    form_in_the_url(client, driver, base).await?;
+    bad_parameter_link(client, base).await?;
+    paper_view(client, driver, base).await?;
+    scorecard_view(client, driver, base).await?;
+    work_precision_view(client, driver, base).await
+}
