@@ -54,12 +54,13 @@ fn constraints_hold_at_every_step() {
     for_each_system!(constraints_every_step);
 }
 
-/// Watches the energy series of a run and the velocity it ends with.
+/// Watches the energy series of a run and the state it ends in.
 #[derive(Default)]
 struct EnergyWatch {
     initial: f64,
     worst: f64,
     kinetic_end: f64,
+    zeta_end: f64,
 }
 
 impl Observer for EnergyWatch {
@@ -69,36 +70,37 @@ impl Observer for EnergyWatch {
     fn points(&mut self, _: Integral, bucket: Bucket) {
         self.worst = self.worst.max(bucket.max);
     }
-    fn finish(&mut self, _q: &[f64], v: &[f64]) {
+    fn finish(&mut self, q: &[f64], v: &[f64]) {
         self.kinetic_end = 0.5 * v.iter().map(|x| x * x).sum::<f64>();
+        self.zeta_end = q.last().copied().unwrap_or(f64::NAN);
     }
 }
 
-/// DD's largest |H − H(0)| over `steps` steps, through the driver (as a user runs it: the
+/// `m`'s largest |H − H(0)| over `steps` steps, through the driver (as a user runs it: the
 /// driver keeps an angle ζ within a turn), relative to the size of H's terms: |H(0)|, or the
 /// kinetic energy at the end where the motion runs away (the perturbed knife edge slides
 /// 1.3·10⁶ down its plane in 10⁵ steps, and H = 0.5 is the difference of two terms of that
-/// size, whose rounding alone is 10⁻¹⁰).
+/// size, whose rounding alone is 10⁻¹⁰); and the final ζ, as the run started it.
 fn dd_energy_error<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
     start: State<N, R>,
     h: f64,
     steps: u64,
     m: &Method,
-) -> f64 {
+) -> (f64, f64) {
     let problem =
         Problem { sys, start, step: h, steps, integrals: &[Integral::Energy], latitude: None };
     let mut watch = EnergyWatch::default();
     let out = m.run(&problem, &RunConfig { points: 100, ..RunConfig::default() }, &mut watch);
     assert_eq!(out.error, None);
-    watch.worst / watch.initial.abs().max(watch.kinetic_end)
+    (watch.worst / watch.initial.abs().max(watch.kinetic_end), watch.zeta_end)
 }
 
 fn dd_energy<S: System<N, R>, const N: usize, const R: usize>() {
     let dd = method("dd");
     for (p, preset) in S::info().presets.iter().enumerate() {
         let (sys, start, h) = preset_start::<S, N, R>(p);
-        let rel = dd_energy_error(&sys, start, h, 100_000, &dd);
+        let (rel, _) = dd_energy_error(&sys, start, h, 100_000, &dd);
         println!(
             "{}/{}: dd max |H − H(0)|, relative, over 1e5 steps = {rel:.2e}",
             S::info().id,
@@ -126,8 +128,9 @@ fn dd_energy_on_a_rotating_driver_does_not_grow_with_the_angle() {
         for turns in [0.0, 50_000.0] {
             let (sys, mut start, h) = preset_start::<CvtPendulum, 3, 1>(3);
             start.q[2] += turns * std::f64::consts::TAU;
-            let rel = dd_energy_error(&sys, start, h, 100_000, &m);
+            let (rel, zeta_end) = dd_energy_error(&sys, start, h, 100_000, &m);
             println!("rotating-perturbed from ζ₀ + 2π·{turns}: {} {rel:.2e}", m.label());
+            assert!(zeta_end - start.q[2] > 2e4, "the driver turns: ζ ends at {zeta_end}");
             assert!(
                 rel <= 1e-12,
                 "{} from ζ₀ + 2π·{turns}: relative energy error {rel:e}",
