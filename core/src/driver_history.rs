@@ -1,8 +1,8 @@
 //! [`DriverHistory`]: the driver's last speed increments, from which DD guesses the driver's
-//! speed at the end of its next step for Newton. Used by the `(q̇₁, λ)` solve of DD and
-//! DD-AVF, which DD takes where V_d is not quadratic (`cvt_pendulum`, the mobile robot; where
-//! V is quadratic it starts from the exact solution instead, `dd_reduced`), and by DD-AVF's
-//! coupled path (`dd_avf_coupled`) for its driver's scalar Newton.
+//! speed at the end of its next step for Newton. Used where V_d is not quadratic
+//! (`cvt_pendulum`, the mobile robot; where V is quadratic DD starts from the exact solution
+//! instead): by the `(q̇₁, λ)` solve of DD and DD-AVF, by DD's reduced solve (`dd_reduced`)
+//! and by DD-AVF's coupled path (`dd_avf_coupled`) for its driver's scalar Newton.
 //!
 //! DD starts Newton from an explicit Euler step, accurate to O(h²). Most of that error is
 //! harmless: the passenger's velocity and λ enter DD's equations (nearly) linearly, so Newton
@@ -111,29 +111,35 @@ mod tests {
         assert!(history.guess(&q(10.0), &v(10.0), 1.0).is_none());
     }
 
-    fn falls_back_to_euler<M: Integrator>(m: &M) {
-        let sys = CvtPendulum { epsilon: 0.5 };
-        let p = &CvtPendulum::info().presets[3];
+    fn falls_back_to_euler<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
+        sys: &S,
+        preset: usize,
+        m: &M,
+    ) {
+        let p = &S::info().presets[preset];
         let (q, v) = (Vector::from_column_slice(p.q), Vector::from_column_slice(p.v));
-        let mut st = State::with_continuous_multiplier(&sys, q, v).unwrap();
+        let mut st = State::with_continuous_multiplier(sys, q, v).unwrap();
         for _ in 0..5 {
-            m.step(&sys, &mut st, 0.1).unwrap();
+            m.step(sys, &mut st, 0.1).unwrap();
         }
         let mut poisoned = st;
         poisoned.driver_history.increments[0] = f64::NAN;
         let guess = poisoned.driver_history.guess(&st.q, &st.v, 0.1);
         assert!(guess.is_some_and(f64::is_nan), "a guess Newton cannot start from");
-        m.step(&sys, &mut poisoned, 0.1).unwrap();
+        m.step(sys, &mut poisoned, 0.1).unwrap();
         st.driver_history = DriverHistory::empty();
-        m.step(&sys, &mut st, 0.1).unwrap();
+        m.step(sys, &mut st, 0.1).unwrap();
         assert!((poisoned.q - st.q).amax() < 1e-13 && (poisoned.v - st.v).amax() < 1e-13);
     }
 
     #[test]
     fn a_guess_newton_fails_from_falls_back_to_euler() {
-        falls_back_to_euler(&Dd::default());
+        let pendulum = CvtPendulum { epsilon: 0.5 };
+        falls_back_to_euler(&pendulum, 3, &Dd::default());
         // DD-AVF's coupled path, whose driver's scalar Newton starts from the guess.
-        falls_back_to_euler(&DdAvf::default());
+        falls_back_to_euler(&pendulum, 3, &DdAvf::default());
+        // DD's reduced solve.
+        falls_back_to_euler(&MobileRobot, 0, &Dd::default());
     }
 
     /// The largest (relative) difference between a step from the extrapolated guess and the

@@ -5,11 +5,11 @@
 //! Where V is quadratic, Gonzalez's correction is only the rounding of `q₁` (see
 //! [`discrete_gradient`]) and the discrete gradient is otherwise `∇V(q̄)`.
 //! Implicit in `(q̇₁, λ)`, solved by Newton with the Jacobian derived below (exact, but for
-//! the derivatives of that rounding). Where V is quadratic, by default in the two unknowns
-//! that remain once the midpoint constraint is built in and λ projected out
-//! ([`dd_reduced`](super::dd_reduced)); elsewhere (or with `fast_path: false`) in `(q̇₁, λ)`
-//! as written in MATH.md §3, starting from Euler's step with the driver's speed extrapolated
-//! from the last steps
+//! the derivatives of that rounding). Where V is quadratic and on the mobile robot, by default
+//! in the two unknowns that remain once the midpoint constraint is built in and λ projected
+//! out ([`dd_reduced`](super::dd_reduced)); elsewhere (or with `fast_path: false`) in
+//! `(q̇₁, λ)` as written in MATH.md §3, starting from Euler's step with the driver's speed
+//! extrapolated from the last steps
 //! ([`DriverHistory`](crate::driver_history::DriverHistory)), which saves the third iteration
 //! on most steps.
 
@@ -25,9 +25,9 @@ use crate::{InputError, Matrix, State, StepFailure, Vector};
 pub struct Dd {
     /// Newton's settings.
     pub newton: NewtonConfig,
-    /// Where V is quadratic, solve Newton in the two unknowns of the kernel of `A(q̄)`
-    /// (`dd_reduced`; same steps to round-off); `false` forces the general `(q̇₁, λ)` solve,
-    /// which it is tested against.
+    /// Where `dd_reduced` applies (V quadratic, or two constraints), solve Newton in the two
+    /// unknowns of the kernel of `A(q̄)` (same steps to round-off); `false` forces the general
+    /// `(q̇₁, λ)` solve, which it is tested against.
     pub fast_path: bool,
 }
 
@@ -116,6 +116,9 @@ impl Integrator for Dd {
         st: &mut State<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
+        if self.fast_path && dd_reduced::applies::<S, N, R>() {
+            return reduced_step(sys, st, h, &self.newton);
+        }
         let v_q0 = sys.passenger_potential(&st.q) + st.driver_potential_and_constraint(sys).0;
         let q0 = st.q;
         // Gonzalez's correction makes the Jacobian dense unless V is quadratic.
@@ -123,7 +126,7 @@ impl Integrator for Dd {
         let gradient = |dq: &Vector<N>, mid: &DriverTerms<N, R>, end: &mut AngleTracker| {
             discrete_gradient(sys, (&q0, v_q0), dq, h, mid, end)
         };
-        discrete_derivative_step(sys, st, h, (&self.newton, self.fast_path), diagonal, gradient)
+        discrete_derivative_step(sys, st, h, &self.newton, diagonal, gradient)
     }
 }
 
@@ -144,23 +147,18 @@ impl<F, const N: usize, const R: usize> DiscreteGradient<N, R> for F where
 /// with respect to `q̇₁`; if it evaluates the driver at ζ₁ through the tracker, the terms at
 /// the step's end follow from its last iterate by a tiny rotation. `diagonal_gradient_jacobian`
 /// says whether that derivative can be diagonal (then Newton's matrix is checked for the
-/// shape that [`linalg::inverse_maybe_bordered`](crate::linalg) inverts cheaply). With
-/// `fast_path`, where [`dd_reduced`](super::dd_reduced) applies, the step is solved there in
-/// two unknowns instead (DD's default; DD-AVF's fast path is `dd_avf_coupled`, and it comes
-/// here only with `fast_path: false`). Shared by `dd` (Gonzalez) and `dd_avf` (average vector
-/// field).
+/// shape that [`linalg::inverse_maybe_bordered`](crate::linalg) inverts cheaply). The general
+/// `(q̇₁, λ)` solve, shared by `dd` (Gonzalez) and `dd_avf` (average vector field); their fast
+/// paths are `dd_reduced` and `dd_avf_coupled`.
 #[inline]
 pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
     st: &mut State<N, R>,
     h: f64,
-    (newton, fast_path): (&NewtonConfig, bool),
+    newton: &NewtonConfig,
     diagonal_gradient_jacobian: bool,
     mut gradient: impl DiscreteGradient<N, R>,
 ) -> Result<(), StepFailure> {
-    if fast_path && dd_reduced::applies::<S, N, R>() {
-        return reduced_step(sys, st, h, newton, gradient);
-    }
     let (q0, v0) = (st.q, st.v);
     let (g0, a0) = st.gradient_and_constraint(sys);
     let euler = (v0 + h * (a0.transpose() * st.lambda - g0), st.lambda);

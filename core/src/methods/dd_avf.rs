@@ -139,6 +139,6 @@ impl Integrator for DdAvf {
             let (grad, jac) = avf_gradient(sys, (&q0, vd0), dq, mid, end);
             (grad, jac * (0.5 * h))
         };
-        discrete_derivative_step(sys, st, h, (&self.newton, false), true, gradient)
+        discrete_derivative_step(sys, st, h, &self.newton, true, gradient)
     }
 }

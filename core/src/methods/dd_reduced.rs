@@ -1,6 +1,7 @@
-//! DD's reduced Newton solve where V is quadratic (DD-AVF has its own split,
-//! `dd_avf_coupled`, which needs no Newton for the passenger): the same equations as [`discrete_derivative_step`](super::dd::discrete_derivative_step), in two
-//! unknowns instead of `N + R`.
+//! DD's reduced Newton solve on the coupled systems: the same equations as
+//! [`discrete_derivative_step`](super::dd::discrete_derivative_step), in two unknowns instead
+//! of `N + R`. (DD-AVF has its own split, `dd_avf_coupled`, which needs no Newton for the
+//! passenger.)
 //!
 //! The midpoint constraint `A(q̄)(q̇₀ + q̇₁) = 0` says that `s = q̇₀ + q̇₁` lies in the kernel of
 //! `A(ζ̄) = [A_x(ζ̄) | 0]`, which on a coupled system is spanned by `(k̃(ζ̄), 0)` and the
@@ -16,25 +17,29 @@
 //! an R×R Schur complement on every iteration; λ follows once, from the residual the
 //! projection removed. `k̃` is not normalized: its components are the entries of `A`
 //! (`(−a₂, a₁)` for one constraint, the cross product of the two rows for two), so no square
-//! root enters the iteration.
+//! root enters the iteration. Gonzalez's gradient is written here again, with its derivative
+//! taken along the two directions of `s` only ([`gonzalez`]): Newton needs no N×N Jacobian.
 //!
-//! Used where V is quadratic (`cvt`, `particle`, the knife edge, the rolling disk): there the
-//! driver's equation is affine in σ alone and, given σ, F₁ is affine in w, so Newton starts
-//! from the exact solution up to DD's rounding term and takes one iteration. Same steps as
-//! the general path to 10⁻¹³ (`tests/fast_path.rs`); speed in `docs/benchmarks.md`.
+//! Where V is quadratic (`cvt`, `particle`, the knife edge, the rolling disk) the driver's
+//! equation is affine in σ alone and, given σ, F₁ is affine in w, so Newton starts from the
+//! exact solution up to DD's rounding term and takes one iteration. Where V_d is not
+//! quadratic it takes two, from the driver's extrapolated speed; that pays on the mobile robot
+//! (two constraints, whose `(q̇₁, λ)` solve inverts a dense 4×4 matrix and a 2×2 one on every
+//! iteration), not on `cvt_pendulum` (see [`applies`]). Same steps as the general path to
+//! 10⁻¹³ (`tests/fast_path.rs`); speed in `docs/benchmarks.md`.
 
-use super::dd::DiscreteGradient;
 use crate::angle_tracker::AngleTracker;
 use crate::newton::{NewtonConfig, solve_pair};
-use crate::system::System;
+use crate::system::{DriverTerms, System};
 use crate::{Matrix, State, StepFailure, Vector, linalg};
 
-/// Whether the reduced solve applies to a system: V quadratic (then Newton's first guess is
-/// exact), and a one-dimensional passenger kernel (`N = R + 2`) with one or two constraints,
-/// which [`passenger_kernel`] covers. Where V_d is not quadratic (`cvt_pendulum`, the mobile
-/// robot) both solves take two iterations, and the reduced one measured no faster.
+/// Whether DD takes the reduced solve on a system: U quadratic and a one-dimensional passenger
+/// kernel (`N = R + 2`) with one or two constraints, which [`passenger_kernel`] covers; and V_d
+/// quadratic (Newton's first guess is then exact) or two constraints. On `cvt_pendulum` (one
+/// constraint, V_d not quadratic) both solves take two iterations and the reduced one measured
+/// 6 % slower (204 against 192 ns/step); on the mobile robot, 1.46× faster (182 against 266).
 pub(crate) const fn applies<S: System<N, R>, const N: usize, const R: usize>() -> bool {
-    S::QUADRATIC_PASSENGER && S::QUADRATIC_DRIVER && N == R + 2 && (R == 1 || R == 2)
+    S::QUADRATIC_PASSENGER && N == R + 2 && (R == 1 || R == 2) && (S::QUADRATIC_DRIVER || R == 2)
 }
 
 /// `(k̃, dk̃/dζ)`: a vector spanning the kernel of `A_x`, with zero driver component, from the
@@ -62,6 +67,12 @@ fn passenger_kernel<const N: usize, const R: usize>(
     (k, dk)
 }
 
+/// `k̃` alone, from A's entries (see [`passenger_kernel`]).
+#[inline]
+fn kernel<const N: usize, const R: usize>(a: &Matrix<R, N>) -> Vector<N> {
+    passenger_kernel(a, &Matrix::<R, N>::zeros()).0
+}
+
 /// What the last Newton linearization computed, from which the step's q̇₁ and λ follow.
 struct Last<const N: usize> {
     /// `q̇₀ + q̇₁` there.
@@ -74,30 +85,47 @@ struct Last<const N: usize> {
     d_residual: [Vector<N>; 2],
 }
 
-/// One step of the discrete-derivative family, solved in the kernel's two unknowns (see the
-/// module's doc); `gradient` as for the general path. Only where it [`applies`].
+/// One DD step solved in the kernel's two unknowns (see the module's doc). Only where it
+/// [`applies`].
 #[inline]
 pub(crate) fn reduced_step<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
     st: &mut State<N, R>,
     h: f64,
     newton: &NewtonConfig,
-    mut gradient: impl DiscreteGradient<N, R>,
 ) -> Result<(), StepFailure> {
     let (q0, v0) = (st.q, st.v);
     let z0 = q0[N - 1];
+    let v_q0 = sys.passenger_potential(&q0) + st.driver_potential_and_constraint(sys).0;
+    let (g0, a0) = st.gradient_and_constraint(sys);
+    // K, the same at every q where U is quadratic.
+    let stiffness = sys.passenger_hessian(&q0);
     let (mut mid, mut end) = (AngleTracker::new(), AngleTracker::new());
-    // Newton's first guess: the solution of the equations with ∇̄V replaced by ∇V(q̄), which
-    // differs from DD's only by Gonzalez's rounding term, so that
-    // Newton's first increment is round-off and one iteration suffices. σ first, from the
-    // driver's affine equation `σ − 2ζ̇₀ + h V_d'(ζ₀ + hσ/4) = 0`; then w from F₁, affine in w.
-    let sigma = (2.0 * v0[N - 1] - h * st.gradient(sys)[N - 1])
-        / (1.0 + 0.25 * h * h * sys.driver_potential_d2(z0));
-    let at_mid = mid.terms(sys, z0 + 0.25 * h * sigma);
-    let (k, _) = passenger_kernel(&at_mid.constraint, &at_mid.constraint_d);
-    let slope = k.norm_squared() + 0.25 * h * h * k.dot(&(sys.passenger_hessian(&q0) * k));
-    let passenger = 2.0 * v0 - h * sys.passenger_gradient(&q0);
-    let mut x = Vector::<2>::new(k.dot(&passenger) / slope, sigma);
+    // Given σ, F₁ is affine in w but for Gonzalez's correction: w = k̃·P / (|k̃|² + h²k̃ᵀKk̃/4).
+    let passenger = 2.0 * v0 - h * g0;
+    let w_for = |k: &Vector<N>| {
+        k.dot(&passenger) / (k.norm_squared() + 0.25 * h * h * k.dot(&(stiffness * k)))
+    };
+    let euler_sigma = 2.0 * v0[N - 1] - h * g0[N - 1];
+    let (start, fallback) = if S::QUADRATIC_DRIVER {
+        // The solution of the equations with ∇̄V replaced by ∇V(q̄), which differs from DD's
+        // only by Gonzalez's rounding term, so that Newton's first increment is round-off and
+        // one iteration suffices. σ first, from the driver's affine equation
+        // `σ − 2ζ̇₀ + h V_d'(ζ₀ + hσ/4) = 0`; then w.
+        let sigma = euler_sigma / (1.0 + 0.25 * h * h * sys.driver_potential_d2(z0));
+        let at_mid = mid.terms(sys, z0 + 0.25 * h * sigma);
+        (Vector::<2>::new(w_for(&kernel(&at_mid.constraint)), sigma), None)
+    } else {
+        // σ from the driver's last steps (`DriverHistory`), Euler's otherwise, and Euler's
+        // again if Newton fails from the extrapolated one (as the general path does); w with
+        // k̃ at ζ₀, whose A is known, so that the first iteration waits on no sine.
+        let w = w_for(&kernel(&a0));
+        let euler = Vector::<2>::new(w, euler_sigma);
+        match st.driver_history.guess(&q0, &v0, h) {
+            Some(zeta_dot) => (Vector::<2>::new(w, v0[N - 1] + zeta_dot), Some(euler)),
+            None => (euler, None),
+        }
+    };
     let mut last = None;
     let mut linearize = |x: &Vector<2>| {
         let (w, sigma) = (x[0], x[1]);
@@ -105,12 +133,15 @@ pub(crate) fn reduced_step<S: System<N, R>, const N: usize, const R: usize>(
         let (k, dk) = passenger_kernel(&at_mid.constraint, &at_mid.constraint_d);
         let mut s = k * w;
         s[N - 1] = sigma;
-        let (grad, jac) = gradient(&(s * (0.5 * h)), &at_mid, &mut end);
-        let residual = s - 2.0 * v0 + h * grad;
-        // ds/dw = k̃, ds/dσ = (w dk̃/dζ · h/4, 1); the residual moves by (I + h jac) ds.
+        // ds/dw = k̃, ds/dσ = (w dk̃/dζ · h/4, 1).
         let mut ds_sigma = dk * (0.25 * h * w);
         ds_sigma[N - 1] = 1.0;
-        let (dr_w, dr_sigma) = (k + h * (jac * k), ds_sigma + h * (jac * ds_sigma));
+        let dq = s * (0.5 * h);
+        let (grad, [j_w, j_sigma]) =
+            gonzalez(sys, (&q0, v_q0), &dq, h, (&at_mid, &stiffness), &mut end, [&k, &ds_sigma]);
+        let residual = s - 2.0 * v0 + h * grad;
+        // The residual moves by (I + h ∂∇̄V/∂q̇₁) ds.
+        let (dr_w, dr_sigma) = (k + h * j_w, ds_sigma + h * j_sigma);
         let value = Vector::<2>::new(k.dot(&residual), residual[N - 1]);
         let j = Matrix::<2, 2>::new(
             k.dot(&dr_w),
@@ -121,7 +152,15 @@ pub(crate) fn reduced_step<S: System<N, R>, const N: usize, const R: usize>(
         last = Some(Last { s, ds: [k, ds_sigma], residual, d_residual: [dr_w, dr_sigma] });
         (value, j)
     };
-    let dx = solve_pair(newton, &mut x, &mut linearize)?;
+    let (mut x, mut fallback) = (start, fallback);
+    // One call site, so that `solve_pair` and the linearization stay inlined.
+    let dx = loop {
+        match solve_pair(newton, &mut x, &mut linearize) {
+            Ok(dx) => break dx,
+            Err(_) if fallback.is_some() => (x, fallback) = (fallback.unwrap_or(x), None),
+            Err(failure) => return Err(failure),
+        }
+    };
     let Last { s: s_lin, ds: [ds_w, ds_sigma], residual, d_residual: [dr_w, dr_sigma] } =
         last.ok_or(StepFailure::Singular)?;
     // Newton's last increment, as solved, applied to q̇₁'s components rather than to the
@@ -137,8 +176,58 @@ pub(crate) fn reduced_step<S: System<N, R>, const N: usize, const R: usize>(
     let a = mid.terms(sys, z0 + 0.25 * h * x[1]).constraint;
     st.lambda = linalg::solve(&(a * a.transpose()), &(a * force)).ok_or(StepFailure::Singular)?;
     st.advance_to((v0 + v1) * (0.5 * h), v1);
+    if !S::QUADRATIC_DRIVER {
+        st.driver_history.record((&q0, &v0), h, (&st.q, &st.v));
+    }
     // What the next step starts from and the integrals at q₁ need.
     let at_q1 = end.terms(sys, st.q[N - 1]);
     st.remember_at_end(at_q1.gradient(sys, &st.q), at_q1.constraint, at_q1.potential);
     Ok(())
+}
+
+/// Gonzalez's discrete gradient `∇̄V(q₀, q₀ + Δq)` (as [`dd`](super::dd)'s
+/// `discrete_gradient`, which has the reasoning) and its derivative with respect to q̇₁
+/// along two directions, without forming the N×N matrix: `∂∇̄V/∂q̇₁ · x` for each x.
+/// `stiffness` is K (U quadratic); the driver's terms at ζ̄ are given, those at ζ₁ come from
+/// `end`.
+#[inline]
+fn gonzalez<S: System<N, R>, const N: usize, const R: usize>(
+    sys: &S,
+    (q0, v_q0): (&Vector<N>, f64),
+    dq: &Vector<N>,
+    h: f64,
+    (mid, stiffness): (&DriverTerms<N, R>, &Matrix<N, N>),
+    end: &mut AngleTracker,
+    along: [&Vector<N>; 2],
+) -> (Vector<N>, [Vector<N>; 2]) {
+    let q_mid = q0 + 0.5 * dq;
+    let g_mid = mid.gradient(sys, &q_mid);
+    let mut hessian = *stiffness;
+    hessian[(N - 1, N - 1)] = mid.potential_d2;
+    let mut j = along.map(|x| hessian * x * (0.25 * h));
+    let dq2 = dq.norm_squared();
+    if dq2 == 0.0 {
+        return (g_mid, j);
+    }
+    let q1 = q0 + dq;
+    if S::QUADRATIC_DRIVER {
+        // The correction is rounding only; its derivatives are left out.
+        let c = sys.potential(&q1) - v_q0 - g_mid.dot(dq);
+        return (g_mid + c * (dq / dq2), j);
+    }
+    // One division where the two below would take two.
+    let inverse = 1.0 / dq2;
+    let u = dq * inverse;
+    let at_q1 = end.terms(sys, q1[N - 1]);
+    let c = sys.passenger_potential(&q1) + at_q1.potential - v_q0 - g_mid.dot(dq);
+    // d(Δq/|Δq|²)/dq̇₁ · x = (h/2) (x − 2 Δq (u·x)) / |Δq|², times c; and u (dc/dq̇₁ · x),
+    // where only the driver's share of dc is kept (U's is rounding):
+    // dc/dζ̇₁ = (h/2) [V_d'(ζ₁) − V_d'(ζ̄) − ½ V_d''(ζ̄) Δζ].
+    let scale = c * (0.5 * h) * inverse;
+    let dc =
+        (at_q1.potential_d1 - mid.potential_d1 - 0.5 * mid.potential_d2 * dq[N - 1]) * (0.5 * h);
+    for (j, x) in j.iter_mut().zip(along) {
+        *j += (x - dq * (2.0 * u.dot(x))) * scale + u * (dc * x[N - 1]);
+    }
+    (g_mid + c * u, j)
 }
