@@ -21,6 +21,7 @@ pub(crate) mod linalg;
 pub mod method;
 pub mod methods;
 pub mod newton;
+pub(crate) mod passenger_kernel;
 pub mod properties;
 pub mod reference;
 pub mod registry;

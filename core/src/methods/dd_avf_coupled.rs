@@ -13,25 +13,29 @@
 //! the rest is linear:
 //!
 //! ```text
-//! (I + h²K/4) q̇₁ − h Āᵀλ = q̇₀ − h∇U(q₀) − h²K q̇₀/4,   Ā (q̇₀ + q̇₁) = 0,
+//! M s − h Āᵀλ = 2q̇₀ − h∇U(q₀),   Ā s = 0,   s = q̇₀ + q̇₁,   M = I + h²K/4
 //! ```
 //!
-//! an N×N and an R×R solve, where the general path factors both on every Newton iteration
-//! of its `N + R` unknowns. This is the fast path issue 4 describes; the same equations give
-//! the same steps as the general path to 10⁻¹³ (`tests/fast_path.rs`), and the speed is in
-//! `docs/benchmarks.md`. DD (Gonzalez's gradient) has no such split: its correction term
-//! couples the driver's row to the passenger's motion.
+//! (passenger rows). The constraint makes `s = w k̃(ζ̄)` plus its driver component
+//! ([`passenger_kernel`](crate::passenger_kernel)), and projecting on `k̃` removes λ:
+//! `w = k̃·(2q̇₀ − h∇U(q₀)) / k̃ᵀM k̃`, one division; λ follows from the residual by one R×R
+//! solve. The general path factors an `N + R` system on every Newton iteration. This is the
+//! fast path issue 4 describes; the same equations give the same steps as the general path to
+//! 10⁻¹³ (`tests/fast_path.rs`), and the speed is in `docs/benchmarks.md`. DD (Gonzalez's
+//! gradient) has no such split: its correction term couples the driver's row to the
+//! passenger's motion.
 
 use super::dd_avf::avf_driver_mean;
 use crate::angle_tracker::AngleTracker;
 use crate::newton::{NewtonConfig, solve_affine_scalar, solve_scalar};
+use crate::passenger_kernel::{self, kernel};
 use crate::system::System;
-use crate::{Matrix, State, StepFailure, linalg};
+use crate::{State, StepFailure, linalg};
 
-/// Whether the split applies: U quadratic (every test system), so that the passenger's
-/// problem is linear once the driver is known.
+/// Whether the split applies: U quadratic, so that the passenger's problem is linear once the
+/// driver is known, and a passenger kernel that `passenger_kernel` covers (every test system).
 pub(crate) const fn applies<S: System<N, R>, const N: usize, const R: usize>() -> bool {
-    S::QUADRATIC_PASSENGER
+    S::QUADRATIC_PASSENGER && passenger_kernel::covers::<N, R>()
 }
 
 /// One DD-AVF step by the split of the module's doc (only where it [`applies`]).
@@ -78,8 +82,7 @@ pub(crate) fn coupled_step<S: System<N, R>, const N: usize, const R: usize>(
             Err(failure) => return Err(failure),
         }
     };
-    // The passenger, with Ā = A(ζ̄) (see the module's doc). K's driver row and Ā's driver
-    // column vanish, so that row reads q̇₁_ζ = ζ̇₁.
+    // The passenger, with Ā = A(ζ̄) (see the module's doc).
     let z_mid = z0 + 0.25 * h * (zd0 + zd1);
     let mut mid = AngleTracker::new();
     let a_mid = mid.terms(sys, z_mid).constraint;
@@ -90,31 +93,27 @@ pub(crate) fn coupled_step<S: System<N, R>, const N: usize, const R: usize>(
         // 122 → 131 ns/step): it puts the polynomial on the step's chain after Newton.
         end = mid;
     }
-    let k = sys.passenger_hessian(&q0) * (0.25 * h * h);
-    let m = Matrix::<N, N>::identity() + k;
-    let mut rhs = v0 - h * g0 - k * v0;
-    rhs[N - 1] = zd1;
-    let m_inv = if N >= 4 { linalg::inverse_maybe_bordered(&m) } else { linalg::inverse(&m) }
-        .ok_or(StepFailure::Singular)?;
-    let (m_rhs, m_at) = (m_inv * rhs, m_inv * a_mid.transpose());
-    // Inverted once, for the solve and its refinement.
-    let schur_inv = linalg::inverse(&(a_mid * m_at)).ok_or(StepFailure::Singular)?;
-    let mut lambda = schur_inv * (a_mid * (m_rhs + v0)) * (-1.0 / h);
-    let mut v1 = m_rhs + h * (m_at * lambda);
+    // `g0` is ∇V(q₀); its driver component goes into `passenger` unused (k̃ and Ā have none).
+    let k = kernel(&a_mid);
+    let stiffness = sys.passenger_hessian(&q0) * (0.25 * h * h);
+    let passenger = 2.0 * v0 - h * g0;
+    let mk = k + stiffness * k;
+    let inverse_kmk = 1.0 / k.dot(&mk);
+    let mut v1 = k * (k.dot(&passenger) * inverse_kmk) - v0;
     v1[N - 1] = zd1;
-    // One step of iterative refinement: the residuals of the equations at the solution as
-    // computed, and the correction they call for. Without it DD-AVF's energy error was
-    // 20–100× the general path's after 10⁵ steps (knife edge 2.6·10⁻¹², against 8·10⁻¹⁴);
-    // with it, the same order (1.6·10⁻¹³; a second step gained nothing).
-    let s = v0 + v1;
-    let mut r1 = (v1 - v0) + h * g0 + k * s - h * (a_mid.transpose() * lambda);
-    r1[N - 1] = 0.0;
-    let m_r1 = m_inv * r1;
-    let d_lambda = schur_inv * (a_mid * m_r1 - a_mid * s) * (1.0 / h);
-    let mut dv = h * (m_at * d_lambda) - m_r1;
-    dv[N - 1] = 0.0;
+    // One step of iterative refinement, on the constraint's and the projected equation's
+    // residuals at q̇₁ as rounded (q̇₁ = s − q̇₀ is rounded to the grid of s). Without it
+    // DD-AVF's energy error after 10⁵ steps was 20–300× the general path's (knife edge
+    // 6.8·10⁻¹², particle 3.8·10⁻¹², against 8·10⁻¹⁴ and 1.3·10⁻¹⁴); with it, the same order.
+    let aat_inv = linalg::inverse(&(a_mid * a_mid.transpose())).ok_or(StepFailure::Singular)?;
+    let s1 = v0 + v1;
+    let across = a_mid.transpose() * (aat_inv * (a_mid * s1)) * -1.0;
+    let r1 = s1 + stiffness * s1 - passenger;
+    let dv = k * (-(k.dot(&r1) + mk.dot(&across)) * inverse_kmk) + across;
     v1 += dv;
-    lambda += d_lambda;
+    // h Āᵀλ is the residual of the passenger's rows (Ā has no driver column).
+    let s = v0 + v1;
+    let lambda = aat_inv * (a_mid * (s + stiffness * s - passenger)) * (1.0 / h);
     st.advance_to((v0 + v1) * (0.5 * h), v1);
     st.lambda = lambda;
     st.driver_history.record((&q0, &v0), h, (&st.q, &st.v));

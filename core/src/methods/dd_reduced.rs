@@ -30,47 +30,16 @@
 
 use crate::angle_tracker::AngleTracker;
 use crate::newton::{NewtonConfig, solve_pair};
+use crate::passenger_kernel::{self, kernel, kernel_and_derivative};
 use crate::system::{DriverTerms, System};
 use crate::{Matrix, State, StepFailure, Vector, linalg};
 
-/// Whether DD takes the reduced solve on a system: U quadratic and a one-dimensional passenger
-/// kernel (`N = R + 2`) with one or two constraints, which [`passenger_kernel`] covers; and V_d
-/// quadratic (Newton's first guess is then exact) or two constraints. On `cvt_pendulum` (one
+/// Whether DD takes the reduced solve on a system: U quadratic and a passenger kernel that
+/// [`passenger_kernel`] covers; and V_d quadratic (Newton's first guess is then exact) or two constraints. On `cvt_pendulum` (one
 /// constraint, V_d not quadratic) both solves take two iterations and the reduced one measured
 /// 6 % slower (204 against 192 ns/step); on the mobile robot, 1.46× faster (182 against 266).
 pub(crate) const fn applies<S: System<N, R>, const N: usize, const R: usize>() -> bool {
-    S::QUADRATIC_PASSENGER && N == R + 2 && (R == 1 || R == 2) && (S::QUADRATIC_DRIVER || R == 2)
-}
-
-/// `(k̃, dk̃/dζ)`: a vector spanning the kernel of `A_x`, with zero driver component, from the
-/// entries of `A = [A_x | 0]` and of `dA/dζ` (where it [`applies`]).
-#[inline]
-fn passenger_kernel<const N: usize, const R: usize>(
-    a: &Matrix<R, N>,
-    da: &Matrix<R, N>,
-) -> (Vector<N>, Vector<N>) {
-    let (mut k, mut dk) = (Vector::<N>::zeros(), Vector::<N>::zeros());
-    if R == 1 {
-        (k[0], k[1]) = (-a[(0, 1)], a[(0, 0)]);
-        (dk[0], dk[1]) = (-da[(0, 1)], da[(0, 0)]);
-    } else if R == 2 {
-        let cross = |u: [f64; 3], v: [f64; 3]| {
-            [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
-        };
-        let row = |m: &Matrix<R, N>, r: usize| [m[(r, 0)], m[(r, 1)], m[(r, 2)]];
-        let c = cross(row(a, 0), row(a, 1));
-        let (d1, d2) = (cross(row(da, 0), row(a, 1)), cross(row(a, 0), row(da, 1)));
-        for i in 0..3 {
-            (k[i], dk[i]) = (c[i], d1[i] + d2[i]);
-        }
-    }
-    (k, dk)
-}
-
-/// `k̃` alone, from A's entries (see [`passenger_kernel`]).
-#[inline]
-fn kernel<const N: usize, const R: usize>(a: &Matrix<R, N>) -> Vector<N> {
-    passenger_kernel(a, &Matrix::<R, N>::zeros()).0
+    S::QUADRATIC_PASSENGER && passenger_kernel::covers::<N, R>() && (S::QUADRATIC_DRIVER || R == 2)
 }
 
 /// What the last Newton linearization computed, from which the step's q̇₁ and λ follow.
@@ -130,7 +99,7 @@ pub(crate) fn reduced_step<S: System<N, R>, const N: usize, const R: usize>(
     let mut linearize = |x: &Vector<2>| {
         let (w, sigma) = (x[0], x[1]);
         let at_mid = mid.terms(sys, z0 + 0.25 * h * sigma);
-        let (k, dk) = passenger_kernel(&at_mid.constraint, &at_mid.constraint_d);
+        let (k, dk) = kernel_and_derivative(&at_mid.constraint, &at_mid.constraint_d);
         let mut s = k * w;
         s[N - 1] = sigma;
         // ds/dw = k̃, ds/dσ = (w dk̃/dζ · h/4, 1).
