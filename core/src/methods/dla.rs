@@ -3,18 +3,15 @@
 //! Second order and reversible only for α = ½; the paper's DLA^0.4 is its non-reversible
 //! counterexample. Implicit in `(q̇₁, λ)`, solved by Newton with the exact Jacobian.
 //!
-//! The coupled fast path (default, when U is quadratic and the passenger's kernel is one line,
-//! as on every test system): the driver's update
+//! The coupled fast path (default, when U is quadratic): the driver's update
 //! `ζ̇₁ = ζ̇₀ − αh V_d'(ζ₀) − (1−α)h V_d'(ζ₁)` does not see the passenger, so it is one scalar
 //! Newton solve (a single step where V_d is quadratic, `System::QUADRATIC_DRIVER`); with ζ₁
-//! known and `∇U` affine, the passenger update is linear, and along the kernel direction of
-//! A(ζ₁) it is one unknown. Same equations, same result to round-off, without the N×N Newton
-//! iterations.
+//! known and `∇U` affine, the passenger update is one linear saddle solve. Same equations,
+//! same result to round-off, without the N×N Newton iterations.
 
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::{Linearization, NewtonConfig, solve, solve_affine_scalar, solve_scalar};
-use crate::passenger_kernel::{self, kernel};
 use crate::system::{DriverTerms, ParamSpec, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector, linalg};
 
@@ -81,7 +78,7 @@ impl Integrator for Dla {
         let a_qa = sys.constraint(q_a[N - 1]);
         let g0 = st.gradient(sys);
         let v0 = st.v;
-        if self.fast_path && S::QUADRATIC_PASSENGER && passenger_kernel::covers::<N, R>() {
+        if self.fast_path && S::QUADRATIC_PASSENGER {
             return self.step_coupled(sys, st, h, q_a, &a_qa, &g0);
         }
         let g = a_qa.transpose() * (-h);
@@ -155,20 +152,21 @@ impl Dla {
         // Passenger, with ∇U(q₁) = ∇U(q_a) + αh K q̇₁ exact for quadratic U:
         // (I + α(1−α)h²K) q̇₁ − h A_aᵀλ = q̇₀ − αh∇V(q₀) − (1−α)h∇U(q_a), A(ζ₁) q̇₁ = 0.
         // The driver row of K and the driver column of A vanish, so that row reads q̇₁_ζ = w.
-        let stiffness = (a * b * h * h) * sys.passenger_hessian(&q_a);
+        let m = Matrix::<N, N>::identity() + (a * b * h * h) * sys.passenger_hessian(&q_a);
         let mut rhs_v = st.v - a * h * g0 - b * h * sys.passenger_gradient(&q_a);
         rhs_v[N - 1] = w;
-        // q̇₁ = u k̃(ζ₁) + w e_ζ by the constraint (`passenger_kernel`); projecting on k̃(ζ_a),
-        // to which A(q_a)ᵀλ is orthogonal, leaves u alone: one division, and λ from the
-        // residual by one R×R solve.
-        let (k1, k_a) = (kernel(&a1), kernel(a_qa));
-        let u = k_a.dot(&rhs_v) / k_a.dot(&(k1 + stiffness * k1));
-        let mut v1 = k1 * u;
+        // M does not wait on the passenger's chain; below 4×4 its closed form is then the
+        // cheaper (fewer instructions than the shape test, callgrind).
+        let m_inv = if N >= 4 { linalg::inverse_maybe_bordered(&m) } else { linalg::inverse(&m) }
+            .ok_or(StepFailure::Singular)?;
+        let (m_rhs, m_at) = (m_inv * rhs_v, m_inv * a_qa.transpose());
+        let lambda =
+            linalg::solve(&(a1 * m_at), &(a1 * m_rhs)).ok_or(StepFailure::Singular)? * (-1.0 / h);
+        let mut v1 = m_rhs + h * (m_at * lambda);
+        // The driver speed is w (that row of the system reads q̇₁_ζ = w), and is written so:
+        // computed through M⁻¹ and λ it would be w to round-off, but would make the next
+        // step's driver wait for this step's passenger solve.
         v1[N - 1] = w;
-        let residual = v1 + stiffness * v1 - rhs_v;
-        let lambda = linalg::solve(&(a_qa * a_qa.transpose()), &(a_qa * residual))
-            .ok_or(StepFailure::Singular)?
-            * (1.0 / h);
         st.advance_to((1.0 - a) * h * st.v + a * h * v1, v1);
         st.lambda = lambda;
         let zeta = st.q[N - 1];
