@@ -22,9 +22,10 @@ use crate::{InputError, Matrix, State, StepFailure, Vector};
 pub struct DdAvf {
     /// Newton's settings.
     pub newton: NewtonConfig,
-    /// Take the coupled fast path where U is quadratic (every test system): the driver's
-    /// update alone, then the passenger's as one linear solve (`dd_avf_coupled`); `false`
-    /// forces the general Newton solve in `(q̇₁, λ)`, which it is tested against.
+    /// Take the coupled fast path where U is quadratic and the passenger's kernel is one line
+    /// (every test system): the driver's update alone, then the passenger's as one unknown
+    /// along that kernel (`dd_avf_coupled`); `false` forces the general Newton solve in
+    /// `(q̇₁, λ)`, which it is tested against.
     pub fast_path: bool,
 }
 
