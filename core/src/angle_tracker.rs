@@ -58,11 +58,7 @@ impl AngleTracker {
             let d2 = d * d;
             let sin_d = d - d * d2 * (1.0 / 6.0);
             let cos_d_m1 = d2 * (d2 * (1.0 / 24.0) - 0.5);
-            // The small corrections added last, so that the rounding is that of one sum.
-            (
-                self.sin + (self.cos * sin_d + self.sin * cos_d_m1),
-                self.cos + (self.cos * cos_d_m1 - self.sin * sin_d),
-            )
+            self.rotated(sin_d, cos_d_m1)
         } else if d.abs() <= ROTATE_FAR_MAX {
             // The same rotation with the polynomials to d¹¹ and d¹²: the first neglected
             // terms, d¹³/13! and d¹⁴/14!, are below 2.4·10⁻¹⁸ at d = ¼. Off the Newton chain
@@ -80,15 +76,22 @@ impl AngleTracker {
                         + d2 * (-1.0 / 720.0
                             + d2 * (1.0 / 40_320.0
                                 + d2 * (-1.0 / 3_628_800.0 + d2 * (1.0 / 479_001_600.0))))));
-            (
-                self.sin + (self.cos * sin_d + self.sin * cos_d_m1),
-                self.cos + (self.cos * cos_d_m1 - self.sin * sin_d),
-            )
+            self.rotated(sin_d, cos_d_m1)
         } else {
             libm::sincos(zeta)
         };
         *self = Self { zeta, sin: s, cos: c };
         (s, c)
+    }
+
+    /// The tracked sine and cosine rotated by an angle d, given `sin d` and `cos d − 1`.
+    #[inline]
+    fn rotated(&self, sin_d: f64, cos_d_m1: f64) -> (f64, f64) {
+        // The small corrections added last, so that the rounding is that of one sum.
+        (
+            self.sin + (self.cos * sin_d + self.sin * cos_d_m1),
+            self.cos + (self.cos * cos_d_m1 - self.sin * sin_d),
+        )
     }
 
     /// The driver's terms at ζ: from the tracked sine and cosine where ζ is an angle, as the

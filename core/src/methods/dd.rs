@@ -68,20 +68,11 @@ fn discrete_gradient<S: System<N, R>, const N: usize, const R: usize>(
     mid: &DriverTerms<N, R>,
     end: &mut AngleTracker,
 ) -> (Vector<N>, Matrix<N, N>) {
-    let q_mid = q0 + 0.5 * dq;
-    let (g_mid, hess_mid) = (mid.gradient(sys, &q_mid), mid.hessian(sys, &q_mid));
-    let dq2 = dq.norm_squared();
-    if dq2 == 0.0 {
-        return (g_mid, hess_mid * (0.25 * h));
-    }
-    let q1 = q0 + dq;
-    let u = dq / dq2;
-    if S::QUADRATIC_PASSENGER && S::QUADRATIC_DRIVER {
-        let c = sys.potential(&q1) - v_q0 - g_mid.dot(dq);
-        return (g_mid + c * u, hess_mid * (0.25 * h));
-    }
-    let at_q1 = end.terms(sys, q1[N - 1]);
-    let c = sys.passenger_potential(&q1) + at_q1.potential - v_q0 - g_mid.dot(dq);
+    let value = gonzalez_value(sys, (q0, v_q0), dq, mid, end);
+    let hess_mid = mid.hessian(sys, &value.q_mid);
+    let Some(Correction { c, u, dq2, q1, at_q1 }) = value.correction else {
+        return (value.gradient, hess_mid * (0.25 * h));
+    };
     // d(Δq/|Δq|²)/dq̇₁ = (h/2) (I − 2 Δq Δqᵀ/|Δq|²) / |Δq|²
     let du = (Matrix::<N, N>::identity() - 2.0 * (dq * u.transpose())) * (0.5 * h / dq2);
     let mut jac = hess_mid * (0.25 * h) + du * c;
@@ -93,10 +84,66 @@ fn discrete_gradient<S: System<N, R>, const N: usize, const R: usize>(
             jac[(i, N - 1)] += u[i] * dc;
         }
     } else {
-        let dc = (at_q1.gradient(sys, &q1) - g_mid - 0.5 * (hess_mid * dq)) * (0.5 * h);
+        let dc = (at_q1.gradient(sys, &q1) - value.g_mid - 0.5 * (hess_mid * dq)) * (0.5 * h);
         jac += u * dc.transpose();
     }
-    (g_mid + c * u, jac)
+    (value.gradient, jac)
+}
+
+/// The value of Gonzalez's discrete gradient at Δq, and what its derivatives are built from.
+pub(super) struct GonzalezValue<const N: usize, const R: usize> {
+    /// `∇̄V(q₀, q₀ + Δq) = ∇V(q̄) + c u`.
+    pub(super) gradient: Vector<N>,
+    /// `q̄ = q₀ + Δq/2`.
+    pub(super) q_mid: Vector<N>,
+    /// `∇V(q̄)`.
+    pub(super) g_mid: Vector<N>,
+    /// The correction's parts where its derivatives count: Δq ≠ 0 and V not quadratic.
+    pub(super) correction: Option<Correction<N, R>>,
+}
+
+/// Gonzalez's correction `c u` and what its derivatives need.
+pub(super) struct Correction<const N: usize, const R: usize> {
+    /// `c = V(q₁) − V(q₀) − ∇V(q̄)·Δq`.
+    pub(super) c: f64,
+    /// `u = Δq/|Δq|²`.
+    pub(super) u: Vector<N>,
+    /// `|Δq|²`.
+    pub(super) dq2: f64,
+    /// `q₁ = q₀ + Δq`.
+    pub(super) q1: Vector<N>,
+    /// The driver's terms at ζ₁.
+    pub(super) at_q1: DriverTerms<N, R>,
+}
+
+/// Gonzalez's `∇̄V(q₀, q₀ + Δq)` (see [`discrete_gradient`] for the rounding term it keeps),
+/// given `V(q₀)` and the driver's terms at ζ̄; those at ζ₁ through `end`. Shared by the
+/// general path's full Jacobian and the reduced solve's two directional derivatives
+/// (`dd_reduced`).
+#[inline]
+pub(super) fn gonzalez_value<S: System<N, R>, const N: usize, const R: usize>(
+    sys: &S,
+    (q0, v_q0): (&Vector<N>, f64),
+    dq: &Vector<N>,
+    mid: &DriverTerms<N, R>,
+    end: &mut AngleTracker,
+) -> GonzalezValue<N, R> {
+    let q_mid = q0 + 0.5 * dq;
+    let g_mid = mid.gradient(sys, &q_mid);
+    let dq2 = dq.norm_squared();
+    if dq2 == 0.0 {
+        return GonzalezValue { gradient: g_mid, q_mid, g_mid, correction: None };
+    }
+    let q1 = q0 + dq;
+    let u = dq / dq2;
+    if S::QUADRATIC_PASSENGER && S::QUADRATIC_DRIVER {
+        let c = sys.potential(&q1) - v_q0 - g_mid.dot(dq);
+        return GonzalezValue { gradient: g_mid + c * u, q_mid, g_mid, correction: None };
+    }
+    let at_q1 = end.terms(sys, q1[N - 1]);
+    let c = sys.passenger_potential(&q1) + at_q1.potential - v_q0 - g_mid.dot(dq);
+    let correction = Some(Correction { c, u, dq2, q1, at_q1 });
+    GonzalezValue { gradient: g_mid + c * u, q_mid, g_mid, correction }
 }
 
 impl Integrator for Dd {

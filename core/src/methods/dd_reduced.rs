@@ -28,6 +28,7 @@
 //! iteration), not on `cvt_pendulum` (see [`applies`]). Same steps as the general path to
 //! 10⁻¹³ (`tests/fast_path.rs`); speed in `docs/benchmarks.md`.
 
+use super::dd::{Correction, gonzalez_value};
 use crate::angle_tracker::AngleTracker;
 use crate::newton::{NewtonConfig, solve_pair};
 use crate::passenger_kernel::{self, kernel, kernel_and_derivative};
@@ -107,7 +108,7 @@ pub(crate) fn reduced_step<S: System<N, R>, const N: usize, const R: usize>(
         ds_sigma[N - 1] = 1.0;
         let dq = s * (0.5 * h);
         let (grad, [j_w, j_sigma]) =
-            gonzalez(sys, (&q0, v_q0), &dq, h, (&at_mid, &stiffness), &mut end, [&k, &ds_sigma]);
+            gonzalez(sys, (&q0, v_q0), &dq, h, &at_mid, &mut end, [&k, &ds_sigma]);
         let residual = s - 2.0 * v0 + h * grad;
         // The residual moves by (I + h ∂∇̄V/∂q̇₁) ds.
         let (dr_w, dr_sigma) = (k + h * j_w, ds_sigma + h * j_sigma);
@@ -154,49 +155,33 @@ pub(crate) fn reduced_step<S: System<N, R>, const N: usize, const R: usize>(
     Ok(())
 }
 
-/// Gonzalez's discrete gradient `∇̄V(q₀, q₀ + Δq)` (as [`dd`](super::dd)'s
-/// `discrete_gradient`, which has the reasoning) and its derivative with respect to q̇₁
-/// along two directions, without forming the N×N matrix: `∂∇̄V/∂q̇₁ · x` for each x.
-/// `stiffness` is K (U quadratic); the driver's terms at ζ̄ are given, those at ζ₁ come from
-/// `end`.
+/// Gonzalez's discrete gradient `∇̄V(q₀, q₀ + Δq)` ([`gonzalez_value`], as the general path
+/// takes it) and its derivative with respect to q̇₁ along two directions, without forming the
+/// N×N matrix: `∂∇̄V/∂q̇₁ · x` for each x. The driver's terms at ζ̄ are given, those at ζ₁
+/// come from `end`.
 #[inline]
 fn gonzalez<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
     (q0, v_q0): (&Vector<N>, f64),
     dq: &Vector<N>,
     h: f64,
-    (mid, stiffness): (&DriverTerms<N, R>, &Matrix<N, N>),
+    mid: &DriverTerms<N, R>,
     end: &mut AngleTracker,
     along: [&Vector<N>; 2],
 ) -> (Vector<N>, [Vector<N>; 2]) {
-    let q_mid = q0 + 0.5 * dq;
-    let g_mid = mid.gradient(sys, &q_mid);
-    let mut hessian = *stiffness;
-    hessian[(N - 1, N - 1)] = mid.potential_d2;
+    let value = gonzalez_value(sys, (q0, v_q0), dq, mid, end);
+    let hessian = mid.hessian(sys, &value.q_mid);
     let mut j = along.map(|x| hessian * x * (0.25 * h));
-    let dq2 = dq.norm_squared();
-    if dq2 == 0.0 {
-        return (g_mid, j);
+    if let Some(Correction { c, u, dq2, at_q1, .. }) = value.correction {
+        // d(Δq/|Δq|²)/dq̇₁ · x = (h/2) (x − 2 Δq (u·x)) / |Δq|², times c; and u (dc/dq̇₁ · x),
+        // where only the driver's share of dc is kept (U is quadratic here, its share
+        // rounding): dc/dζ̇₁ = (h/2) [V_d'(ζ₁) − V_d'(ζ̄) − ½ V_d''(ζ̄) Δζ].
+        let scale = c * (0.5 * h / dq2);
+        let dc = (at_q1.potential_d1 - mid.potential_d1 - 0.5 * mid.potential_d2 * dq[N - 1])
+            * (0.5 * h);
+        for (j, x) in j.iter_mut().zip(along) {
+            *j += (x - dq * (2.0 * u.dot(x))) * scale + u * (dc * x[N - 1]);
+        }
     }
-    let q1 = q0 + dq;
-    if S::QUADRATIC_DRIVER {
-        // The correction is rounding only; its derivatives are left out.
-        let c = sys.potential(&q1) - v_q0 - g_mid.dot(dq);
-        return (g_mid + c * (dq / dq2), j);
-    }
-    // One division where the two below would take two.
-    let inverse = 1.0 / dq2;
-    let u = dq * inverse;
-    let at_q1 = end.terms(sys, q1[N - 1]);
-    let c = sys.passenger_potential(&q1) + at_q1.potential - v_q0 - g_mid.dot(dq);
-    // d(Δq/|Δq|²)/dq̇₁ · x = (h/2) (x − 2 Δq (u·x)) / |Δq|², times c; and u (dc/dq̇₁ · x),
-    // where only the driver's share of dc is kept (U's is rounding):
-    // dc/dζ̇₁ = (h/2) [V_d'(ζ₁) − V_d'(ζ̄) − ½ V_d''(ζ̄) Δζ].
-    let scale = c * (0.5 * h) * inverse;
-    let dc =
-        (at_q1.potential_d1 - mid.potential_d1 - 0.5 * mid.potential_d2 * dq[N - 1]) * (0.5 * h);
-    for (j, x) in j.iter_mut().zip(along) {
-        *j += (x - dq * (2.0 * u.dot(x))) * scale + u * (dc * x[N - 1]);
-    }
-    (g_mid + c * u, j)
+    (value.gradient, j)
 }
