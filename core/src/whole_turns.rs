@@ -22,7 +22,7 @@ impl<const N: usize, const R: usize> State<N, R> {
     /// taken. Why: ζ is stored to ulp(ζ), and the systems' functions see only the stored ζ;
     /// on a rotating driver ζ grows without bound (see the module's doc).
     #[inline]
-    pub(crate) fn take_whole_turns(&mut self) -> f64 {
+    pub fn take_whole_turns(&mut self) -> f64 {
         let zeta = self.q[N - 1];
         // Not taken for |ζ| ≤ π, nor for NaN (whose run ends on it).
         if zeta.abs() > PI { self.take_turns(zeta) } else { 0.0 }
