@@ -3,10 +3,7 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use nhlab_core::systems::*;
-use nhlab_core::{
-    Method, MethodSpec, Observer, RunConfig, Scene, SceneRequest, State, System, Vector,
-    method_infos,
-};
+use nhlab_core::{Method, Observer, RunConfig, Scene, SceneRequest, State, System, Vector};
 use std::hint::black_box;
 
 const STEPS: u64 = 10_000;
@@ -16,13 +13,7 @@ const STEPS: u64 = 10_000;
 /// that one run gives the fast/general ratio (issue 4).
 fn methods() -> Vec<(String, Method)> {
     let mut out: Vec<(String, Method)> =
-        Method::paper_five().iter().map(|m| (m.label(), *m)).collect();
-    for info in method_infos() {
-        if !out.iter().any(|(_, m)| m.info().id == info.id) {
-            let m = Method::from_spec(&MethodSpec::new(info.id)).expect("registered method");
-            out.push((m.label(), m));
-        }
-    }
+        Method::all().into_iter().map(|m| (m.label(), m)).collect();
     let general: Vec<_> = out
         .iter()
         .filter_map(|(label, m)| Some((format!("{label} general"), m.general_path()?)))

@@ -1,15 +1,10 @@
 //! Prints every method's measured properties on every system's presets.
 //! `cargo run --release -p nhlab-core --example properties`
 
-use nhlab_core::{Method, MethodSpec, SYSTEMS, Scene, SceneRequest, method_infos};
+use nhlab_core::{Method, SYSTEMS, Scene, SceneRequest};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut methods: Vec<Method> = Method::paper_five().to_vec();
-    for info in method_infos() {
-        if !methods.iter().any(|m| m.info().id == info.id) {
-            methods.push(Method::from_spec(&MethodSpec::new(info.id))?);
-        }
-    }
+    let methods = Method::all();
     println!(
         "| system/preset | method | reversible | fibration | defect | driver | fiber | constraint |"
     );

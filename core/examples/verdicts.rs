@@ -1,9 +1,7 @@
 //! Prints the paper's table as nhlab measures it: every paper scene × method × integral
 //! with its verdict and the numbers behind it. `cargo run --release -p nhlab-core --example verdicts`
 
-use nhlab_core::{
-    Collect, Method, MethodSpec, RunConfig, Scene, SceneRequest, classify, method_infos,
-};
+use nhlab_core::{Collect, Method, RunConfig, Scene, SceneRequest, classify};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("| scene | method | integral | verdict | max | early max | late mean | ratio |");
@@ -15,13 +13,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ..Default::default()
         };
         let scene = Scene::resolve(&req)?.prepare(None)?;
-        let mut methods = Method::paper_five().to_vec();
-        for info in method_infos() {
-            if !methods.iter().any(|m| m.info().id == info.id) {
-                methods.push(Method::from_spec(&MethodSpec::new(info.id))?);
-            }
-        }
-        for m in methods {
+        for m in Method::all() {
             let mut c = Collect::default();
             scene.run(&m, &RunConfig::default(), &mut c);
             for (integral, buckets) in &c.series {

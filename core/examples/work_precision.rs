@@ -6,7 +6,7 @@
 //! `cargo run --release -p nhlab-core --example work_precision > target/wp_nhlab.csv`
 
 use nhlab_core::work_precision::{measure, reference};
-use nhlab_core::{Method, MethodSpec, Scene, SceneRequest, method_infos};
+use nhlab_core::{Method, Scene, SceneRequest};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("scene,method,step,steps,elapsed_ms,final_error");
@@ -28,12 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             r.state.constraint_residual,
             [r.state.q.as_slice(), r.state.v.as_slice()].concat()
         );
-        let mut methods = Method::paper_five().to_vec();
-        for info in method_infos() {
-            if !methods.iter().any(|m| m.info().id == info.id) {
-                methods.push(Method::from_spec(&MethodSpec::new(info.id))?);
-            }
-        }
+        let methods = Method::all();
         for m in &methods {
             for k in 0..levels {
                 let h = h0 / 2f64.powf(0.5 * k as f64);

@@ -190,6 +190,19 @@ impl Method {
             Method::Dd(Dd::default()),
         ]
     }
+
+    /// Every registered method with its default parameters, the paper's five first (so DLA^α
+    /// twice, at α = ½ and 0.4): what the scorecard, the benchmarks and the tools run.
+    pub fn all() -> Vec<Method> {
+        let mut out = Self::paper_five().to_vec();
+        for info in method_infos() {
+            if !out.iter().any(|m| m.info().id == info.id) {
+                // A registered id with its defaults always builds.
+                out.extend(Self::from_spec(&MethodSpec::new(info.id)));
+            }
+        }
+        out
+    }
 }
 
 /// A registered system: its description and its code, monomorphized for its sizes.

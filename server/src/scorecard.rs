@@ -17,7 +17,7 @@ use axum::Json;
 use axum::body::Bytes;
 use axum::extract::State;
 use axum::extract::rejection::BytesRejection;
-use nhlab_core::{Method, Properties, method_infos};
+use nhlab_core::{Method, Properties};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use utoipa::ToSchema;
@@ -170,21 +170,15 @@ pub async fn scorecard(
     Ok(Json(run(&state, plans, slot).await?))
 }
 
-/// Every registered method, the paper's five first.
+/// Every registered method, the paper's five first ([`Method::all`]).
 fn all_methods() -> Vec<MethodRequest> {
-    let mut out: Vec<MethodRequest> = Method::paper_five()
+    Method::all()
         .iter()
         .map(|m| {
             let params = m.params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect();
             MethodRequest::new(m.info().id, params)
         })
-        .collect();
-    for info in method_infos() {
-        if !out.iter().any(|m| m.id == info.id) {
-            out.push(MethodRequest::new(info.id, Vec::new()));
-        }
-    }
-    out
+        .collect()
 }
 
 fn plans(req: &ScorecardRequest, state: &AppState) -> Result<Vec<Plan>, AppError> {
