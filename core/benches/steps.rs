@@ -2,7 +2,6 @@
 //! `cargo bench -p nhlab-core`; numbers go to docs/benchmarks.md.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use nhlab_core::systems::*;
 use nhlab_core::{Method, Observer, RunConfig, Scene, SceneRequest, State, System, Vector};
 use std::hint::black_box;
 
@@ -84,12 +83,7 @@ fn figure_set(c: &mut Criterion) {
 }
 
 fn steps(c: &mut Criterion) {
-    bench_system::<KnifeEdge, 3, 1>(c);
-    bench_system::<CvtPendulum, 3, 1>(c);
-    bench_system::<Cvt, 3, 1>(c);
-    bench_system::<Particle, 3, 1>(c);
-    bench_system::<RollingDisk, 4, 2>(c);
-    bench_system::<MobileRobot, 4, 2>(c);
+    nhlab_core::for_each_system!(bench_system, c);
 }
 
 criterion_group!(benches, steps, figure_set);

@@ -9,7 +9,6 @@
 //! biases of DD's `(σ, ε)` experiment (`docs/benchmarks.md`).
 //! `cargo run --release -p nhlab-core --example energy_bias` (`STEPS`, default 10⁵ per preset).
 
-use nhlab_core::systems::*;
 use nhlab_core::{Method, Scene, SceneRequest, State, System, Vector};
 
 fn report<S: System<N, R>, const N: usize, const R: usize>(steps: usize) {
@@ -77,10 +76,5 @@ fn main() {
         "| system/preset | method | steps | mean ΔH per step, fast | general | q̇·δq̇ per component | ∇V·δq per component |"
     );
     println!("|---|---|---|---|---|---|---|");
-    report::<KnifeEdge, 3, 1>(steps);
-    report::<CvtPendulum, 3, 1>(steps);
-    report::<Cvt, 3, 1>(steps);
-    report::<Particle, 3, 1>(steps);
-    report::<RollingDisk, 4, 2>(steps);
-    report::<MobileRobot, 4, 2>(steps);
+    nhlab_core::for_each_system!(report, steps);
 }

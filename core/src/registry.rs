@@ -26,6 +26,22 @@ pub static SYSTEMS: &[SystemEntry] = &[
     SystemEntry::of::<MobileRobot, 4, 2>(),
 ];
 
+/// Calls `f::<S, N, R>(args…)` once for every system of [`SYSTEMS`], in its order, with the
+/// system's type and sizes: for code generic over systems (tests, benchmarks, tools). Kept
+/// beside `SYSTEMS`, against which a test checks it.
+#[macro_export]
+macro_rules! for_each_system {
+    ($f:ident $(, $arg:expr)* $(,)?) => {{
+        use $crate::systems::*;
+        $f::<KnifeEdge, 3, 1>($($arg),*);
+        $f::<CvtPendulum, 3, 1>($($arg),*);
+        $f::<Cvt, 3, 1>($($arg),*);
+        $f::<Particle, 3, 1>($($arg),*);
+        $f::<RollingDisk, 4, 2>($($arg),*);
+        $f::<MobileRobot, 4, 2>($($arg),*);
+    }};
+}
+
 /// The paper's six experiments (MATH.md §6) as (system, preset): its figure set, the
 /// scorecard's default scenes and the benchmarks' workload.
 pub const PAPER_SCENES: [(&str, &str); 6] = [
@@ -313,4 +329,22 @@ pub fn system(id: &str) -> Result<&'static SystemEntry, InputError> {
         id: id.into(),
         valid: SYSTEMS.iter().map(|s| s.info().id).collect::<Vec<_>>().join(", "),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn push_id<S: System<N, R>, const N: usize, const R: usize>(ids: &mut Vec<&'static str>) {
+        ids.push(S::info().id);
+    }
+
+    /// `for_each_system!` covers `SYSTEMS`, in its order.
+    #[test]
+    fn for_each_system_follows_the_registry() {
+        let mut ids = Vec::new();
+        crate::for_each_system!(push_id, &mut ids);
+        let registry: Vec<_> = SYSTEMS.iter().map(|s| s.info().id).collect();
+        assert_eq!(ids, registry);
+    }
 }

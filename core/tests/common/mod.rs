@@ -4,18 +4,12 @@
 
 use nhlab_core::{SYSTEMS, State, System, Vector};
 
-/// Runs `$body` once per registered system, with `$S`, `$N`, `$R` bound to its type and sizes.
+/// `nhlab_core::for_each_system!`, callable unqualified from every test file.
 #[macro_export]
 macro_rules! for_each_system {
-    ($f:ident) => {{
-        use nhlab_core::systems::*;
-        $f::<KnifeEdge, 3, 1>();
-        $f::<CvtPendulum, 3, 1>();
-        $f::<Cvt, 3, 1>();
-        $f::<Particle, 3, 1>();
-        $f::<RollingDisk, 4, 2>();
-        $f::<MobileRobot, 4, 2>();
-    }};
+    ($($t:tt)*) => {
+        nhlab_core::for_each_system!($($t)*)
+    };
 }
 
 /// The ids the macro above covers, in registry order.
@@ -25,7 +19,7 @@ pub const TYPED_IDS: [&str; 6] =
 /// Panics unless the typed list matches the registry.
 pub fn assert_typed_list_matches_registry() {
     let ids: Vec<&str> = SYSTEMS.iter().map(|s| s.info().id).collect();
-    assert_eq!(ids, TYPED_IDS, "update for_each_system! in core/tests/common");
+    assert_eq!(ids, TYPED_IDS, "update for_each_system! in core/src/registry.rs");
 }
 
 /// The size of a state (max norm of q, q̇ and λ, at least 1), to compare steps relative to.
