@@ -27,9 +27,12 @@ fn report<S: System<N, R>, const N: usize, const R: usize>(steps: usize) {
             let Some(mut st) = State::<N, R>::with_continuous_multiplier(&sys, q, v) else {
                 continue;
             };
-            // H and the size of its terms.
+            // The state's value, with the compensations (which carry DD's exact end where V
+            // is quadratic, `exact_energy`); H and the size of its terms there.
+            let value = |s: &State<N, R>| (s.q + s.q_compensation, s.v + s.v_compensation);
             let energy = |s: &State<N, R>| {
-                let (kinetic, potential) = (0.5 * s.v.norm_squared(), sys.potential(&s.q));
+                let (q, v) = value(s);
+                let (kinetic, potential) = (0.5 * v.norm_squared(), sys.potential(&q));
                 (kinetic + potential, kinetic + potential.abs())
             };
             let (mut kinetic, mut potential) = (Vector::<N>::zeros(), Vector::<N>::zeros());
@@ -42,8 +45,9 @@ fn report<S: System<N, R>, const N: usize, const R: usize>(steps: usize) {
                 {
                     break;
                 }
-                kinetic += b.v.component_mul(&(a.v - b.v)) / scale;
-                potential += sys.gradient(&b.q).component_mul(&(a.q - b.q)) / scale;
+                let ((qa, va), (qb, vb)) = (value(&a), value(&b));
+                kinetic += vb.component_mul(&(va - vb)) / scale;
+                potential += sys.gradient(&qb).component_mul(&(qa - qb)) / scale;
                 fast_dh += (energy(&a).0 - h0) / scale;
                 general_dh += (energy(&b).0 - h0) / scale;
                 taken += 1;

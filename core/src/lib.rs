@@ -13,6 +13,7 @@
 pub(crate) mod angle_tracker;
 pub mod bucket;
 pub mod classify;
+pub(crate) mod double_double;
 pub(crate) mod driver_history;
 pub mod error;
 pub mod integral;

@@ -6,6 +6,7 @@ mod dd_avf_coupled;
 mod dd_reduced;
 mod dla;
 mod dla01;
+mod exact_energy;
 mod leapfrog;
 mod rk4;
 

@@ -12,6 +12,7 @@
 //! turns and puts them back where ζ is wanted as the run started it (the latitude's
 //! sections, the final state).
 
+use crate::double_double::two_sum;
 use crate::{State, Vector};
 use std::f64::consts::{PI, TAU};
 
@@ -61,14 +62,6 @@ const TAU_LO: f64 = 6.357_301_909_411_278e-8;
 /// Most turns taken at once (only a start far out takes more than one; it takes the rest on
 /// the following steps).
 const MAX_TURNS: f64 = (1u64 << 26) as f64;
-
-/// Knuth's two-sum: `a + b` rounded, and what the rounding lost, exactly.
-#[inline]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
-}
 
 #[cfg(test)]
 mod tests {

@@ -1,5 +1,6 @@
-//! The coupled fast paths (issue 4: DLA^α's, DLA^{0,1}'s and DD-AVF's), and DD's
-//! two-unknown solve (`dd_reduced`), against the general Newton solves: from every state of
+//! The coupled fast paths (issue 4: DLA^α's, DLA^{0,1}'s and DD-AVF's), and DD's closed
+//! form where V is quadratic (`exact_energy`) and two-unknown solve on the mobile robot
+//! (`dd_reduced`), against the general Newton solves: from every state of
 //! a trajectory on every system (each preset), one step of each gives the same
 //! `(q₁, q̇₁, λ₁)` to 1e-13 (relative to the state's size). Steps are compared one at a time
 //! from the same state, not as whole trajectories, whose sensitivity would amplify the
@@ -93,8 +94,10 @@ fn mean_energy_change<S: System<N, R>, const N: usize, const R: usize>(
     general: &Method,
 ) -> (f64, f64) {
     let (sys, mut st, h) = preset_start::<S, N, R>(preset);
+    // The state's value: with the compensations, which carry DD's exact end (`exact_energy`).
     let energy = |s: &nhlab_core::State<N, R>| {
-        let (kinetic, potential) = (0.5 * s.v.norm_squared(), sys.potential(&s.q));
+        let (q, v) = (s.q + s.q_compensation, s.v + s.v_compensation);
+        let (kinetic, potential) = (0.5 * v.norm_squared(), sys.potential(&q));
         (kinetic + potential, kinetic + potential.abs())
     };
     let (mut fast_sum, mut general_sum) = (0.0, 0.0);

@@ -5,15 +5,19 @@
 //! Where V is quadratic, Gonzalez's correction is only the rounding of `q₁` (see
 //! [`discrete_gradient`]) and the discrete gradient is otherwise `∇V(q̄)`.
 //! Implicit in `(q̇₁, λ)`, solved by Newton with the Jacobian derived below (exact, but for
-//! the derivatives of that rounding). Where V is quadratic and on the mobile robot, by default
-//! in the two unknowns that remain once the midpoint constraint is built in and λ projected
-//! out ([`dd_reduced`](super::dd_reduced)); elsewhere (or with `fast_path: false`) in
+//! the derivatives of that rounding). By default, where V is quadratic, in closed form and
+//! ended in double-double so that H stays at round-off however long the run
+//! ([`exact_energy`](super::exact_energy)); on
+//! the mobile robot in the two unknowns that remain once the midpoint constraint is built in
+//! and λ projected out ([`dd_reduced`](super::dd_reduced)); elsewhere (or with
+//! `fast_path: false`) in
 //! `(q̇₁, λ)` as written in MATH.md §3, starting from Euler's step with the driver's speed
 //! extrapolated from the last steps
 //! ([`DriverHistory`](crate::driver_history::DriverHistory)), which saves the third iteration
 //! on most steps.
 
 use super::dd_reduced::{self, reduced_step};
+use super::exact_energy;
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::{Linearization, NewtonConfig, solve};
@@ -25,9 +29,10 @@ use crate::{InputError, Matrix, State, StepFailure, Vector};
 pub struct Dd {
     /// Newton's settings.
     pub newton: NewtonConfig,
-    /// Where `dd_reduced` applies (V quadratic, or two constraints), solve Newton in the two
-    /// unknowns of the kernel of `A(q̄)` (same steps to round-off); `false` forces the general
-    /// `(q̇₁, λ)` solve, which it is tested against.
+    /// Where V is quadratic, take the step in closed form (`exact_energy`); on the mobile
+    /// robot, solve Newton in the two unknowns of the kernel of `A(q̄)` (`dd_reduced`). Same
+    /// steps to round-off; `false` forces the general `(q̇₁, λ)` solve, which they are tested
+    /// against.
     pub fast_path: bool,
 }
 
@@ -163,6 +168,9 @@ impl Integrator for Dd {
         st: &mut State<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
+        if self.fast_path && exact_energy::applies::<S, N, R>() {
+            return exact_energy::step(sys, st, h);
+        }
         if self.fast_path && dd_reduced::applies::<S, N, R>() {
             return reduced_step(sys, st, h, &self.newton);
         }

@@ -21,12 +21,12 @@
 //! taken along the two directions of `s` only ([`gonzalez`]): Newton needs no N×N Jacobian.
 //!
 //! Where V is quadratic (`cvt`, `particle`, the knife edge, the rolling disk) the driver's
-//! equation is affine in σ alone and, given σ, F₁ is affine in w, so Newton starts from the
-//! exact solution up to DD's rounding term and takes one iteration. Where V_d is not
-//! quadratic it takes two, from the driver's extrapolated speed; that pays on the mobile robot
-//! (two constraints, whose `(q̇₁, λ)` solve inverts a dense 4×4 matrix and a 2×2 one on every
-//! iteration), not on `cvt_pendulum` (see [`applies`]). Same steps as the general path to
-//! 10⁻¹³ (`tests/fast_path.rs`); speed in `docs/benchmarks.md`.
+//! equation is affine in σ alone and, given σ, F₁ is affine in w: the step has a closed form
+//! ([`exact_energy`](super::exact_energy)), and this solve is not used. Where V_d is not
+//! quadratic Newton takes two iterations, from the driver's extrapolated speed; that pays on
+//! the mobile robot (two constraints, whose `(q̇₁, λ)` solve inverts a dense 4×4 matrix and a
+//! 2×2 one on every iteration), not on `cvt_pendulum` (see [`applies`]). Same steps as the
+//! general path to 10⁻¹³ (`tests/fast_path.rs`); speed in `docs/benchmarks.md`.
 
 use super::dd::{Correction, gonzalez_value};
 use crate::angle_tracker::AngleTracker;
@@ -35,12 +35,13 @@ use crate::passenger_kernel::{self, kernel, kernel_and_derivative};
 use crate::system::{DriverTerms, System};
 use crate::{Matrix, State, StepFailure, Vector, linalg};
 
-/// Whether DD takes the reduced solve on a system: U quadratic and a passenger kernel that
-/// [`passenger_kernel`] covers; and V_d quadratic (Newton's first guess is then exact) or two constraints. On `cvt_pendulum` (one
-/// constraint, V_d not quadratic) both solves take two iterations and the reduced one measured
-/// 6 % slower (204 against 192 ns/step); on the mobile robot, 1.46× faster (182 against 266).
+/// Whether DD takes the reduced solve on a system: U quadratic, two constraints whose
+/// passenger kernel [`passenger_kernel`] covers, and V_d not quadratic (where V is quadratic
+/// DD's step has a closed form, [`exact_energy`](super::exact_energy)). On `cvt_pendulum` (one constraint) both
+/// solves take two iterations and the reduced one measured 6 % slower (204 against 192
+/// ns/step); on the mobile robot, 1.46× faster (182 against 266).
 pub(crate) const fn applies<S: System<N, R>, const N: usize, const R: usize>() -> bool {
-    S::QUADRATIC_PASSENGER && passenger_kernel::covers::<N, R>() && (S::QUADRATIC_DRIVER || R == 2)
+    S::QUADRATIC_PASSENGER && !S::QUADRATIC_DRIVER && passenger_kernel::covers::<N, R>() && R == 2
 }
 
 /// What the last Newton linearization computed, from which the step's q̇₁ and λ follow.
@@ -77,24 +78,14 @@ pub(crate) fn reduced_step<S: System<N, R>, const N: usize, const R: usize>(
         k.dot(&passenger) / (k.norm_squared() + 0.25 * h * h * k.dot(&(stiffness * k)))
     };
     let euler_sigma = 2.0 * v0[N - 1] - h * g0[N - 1];
-    let (start, fallback) = if S::QUADRATIC_DRIVER {
-        // The solution of the equations with ∇̄V replaced by ∇V(q̄), which differs from DD's
-        // only by Gonzalez's rounding term, so that Newton's first increment is round-off and
-        // one iteration suffices. σ first, from the driver's affine equation
-        // `σ − 2ζ̇₀ + h V_d'(ζ₀ + hσ/4) = 0`; then w.
-        let sigma = euler_sigma / (1.0 + 0.25 * h * h * sys.driver_potential_d2(z0));
-        let at_mid = mid.terms(sys, z0 + 0.25 * h * sigma);
-        (Vector::<2>::new(w_for(&kernel(&at_mid.constraint)), sigma), None)
-    } else {
-        // σ from the driver's last steps (`DriverHistory`), Euler's otherwise, and Euler's
-        // again if Newton fails from the extrapolated one (as the general path does); w with
-        // k̃ at ζ₀, whose A is known, so that the first iteration waits on no sine.
-        let w = w_for(&kernel(&a0));
-        let euler = Vector::<2>::new(w, euler_sigma);
-        match st.driver_history.guess(&q0, &v0, h) {
-            Some(zeta_dot) => (Vector::<2>::new(w, v0[N - 1] + zeta_dot), Some(euler)),
-            None => (euler, None),
-        }
+    // σ from the driver's last steps (`DriverHistory`), Euler's otherwise, and Euler's again if
+    // Newton fails from the extrapolated one (as the general path does); w with k̃ at ζ₀,
+    // whose A is known, so that the first iteration waits on no sine.
+    let w = w_for(&kernel(&a0));
+    let euler = Vector::<2>::new(w, euler_sigma);
+    let (start, fallback) = match st.driver_history.guess(&q0, &v0, h) {
+        Some(zeta_dot) => (Vector::<2>::new(w, v0[N - 1] + zeta_dot), Some(euler)),
+        None => (euler, None),
     };
     let mut last = None;
     let mut linearize = |x: &Vector<2>| {
@@ -146,9 +137,7 @@ pub(crate) fn reduced_step<S: System<N, R>, const N: usize, const R: usize>(
     let a = mid.terms(sys, z0 + 0.25 * h * x[1]).constraint;
     st.lambda = linalg::solve(&(a * a.transpose()), &(a * force)).ok_or(StepFailure::Singular)?;
     st.advance_to((v0 + v1) * (0.5 * h), v1);
-    if !S::QUADRATIC_DRIVER {
-        st.driver_history.record((&q0, &v0), h, (&st.q, &st.v));
-    }
+    st.driver_history.record((&q0, &v0), h, (&st.q, &st.v));
     // What the next step starts from and the integrals at q₁ need.
     let at_q1 = end.terms(sys, st.q[N - 1]);
     st.remember_at_end(at_q1.gradient(sys, &st.q), at_q1.constraint, at_q1.potential);

@@ -1,0 +1,65 @@
+//! DD's energy at round-off, flat, where V is quadratic (issue 4): its step ends in
+//! double-double (`exact_energy`), so |H − H(0)| stays at a few ulps of H's terms however
+//! long the run. In doubles it grew: linearly on the paper's knife edge at h = π/10, whose
+//! discrete orbit repeats every 20 steps and with it every rounding (2.5·10⁻¹¹ after 10⁸
+//! steps, `docs/benchmarks.md`). DD's general path, which still runs in doubles, shows the
+//! difference the test is about: printed beside, and asserted to be larger on that orbit so
+//! that the test cannot pass by measuring nothing.
+
+mod common;
+use common::preset_start;
+use nhlab_core::methods::Dd;
+use nhlab_core::{Method, System};
+
+const STEPS: usize = 100_000;
+/// Largest |H − H(0)| over the run, in units of ε times the largest of H's terms
+/// (`½|q̇|² + |V|`) along it: evaluating H in doubles alone errs by a few of these.
+const ULPS: f64 = 16.0;
+
+/// max |H − H(0)| / (ε · max(½|q̇|² + |V|)) over `STEPS` steps of `m` from the preset, whole
+/// turns taken off ζ as the driver does.
+fn energy_error<S: System<N, R>, const N: usize, const R: usize>(preset: usize, m: &Method) -> f64 {
+    let (sys, mut st, h) = preset_start::<S, N, R>(preset);
+    let h0 = sys.energy(&st.q, &st.v);
+    let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
+    for _ in 0..STEPS {
+        m.step(&sys, &mut st, h).unwrap();
+        if S::ZETA_IS_ANGLE {
+            st.take_whole_turns();
+        }
+        worst = worst.max((sys.energy(&st.q, &st.v) - h0).abs());
+        scale = scale.max(0.5 * st.v.norm_squared() + sys.potential(&st.q).abs());
+    }
+    worst / (f64::EPSILON * scale)
+}
+
+fn flat<S: System<N, R>, const N: usize, const R: usize>() {
+    if !(S::QUADRATIC_PASSENGER && S::QUADRATIC_DRIVER) {
+        return;
+    }
+    let exact = Method::Dd(Dd::default());
+    let doubles = Method::Dd(Dd { fast_path: false, ..Dd::default() });
+    for preset in 0..S::info().presets.len() {
+        let name = format!("{}/{}", S::info().id, S::info().presets[preset].id);
+        let (e, d) =
+            (energy_error::<S, N, R>(preset, &exact), energy_error::<S, N, R>(preset, &doubles));
+        println!("{name}: max |H − H(0)| {e:.1} ulps (in doubles: {d:.1})");
+        assert!(e <= ULPS, "{name}: DD's energy error reached {e:.1} ulps of H's terms");
+    }
+}
+
+#[test]
+fn dd_energy_stays_at_round_off_where_v_is_quadratic() {
+    for_each_system!(flat);
+}
+
+/// On the paper's periodic orbit the doubles' error grows linearly, and after 10⁵ steps is
+/// well above the exact end's: the comparison the module's doc speaks of.
+#[test]
+fn in_doubles_the_periodic_orbit_drifts() {
+    use nhlab_core::systems::KnifeEdge;
+    let exact = energy_error::<KnifeEdge, 3, 1>(0, &Method::Dd(Dd::default()));
+    let doubles =
+        energy_error::<KnifeEdge, 3, 1>(0, &Method::Dd(Dd { fast_path: false, ..Dd::default() }));
+    assert!(doubles > 4.0 * ULPS && exact <= ULPS, "doubles {doubles:.1}, exact {exact:.1} ulps");
+}
