@@ -29,10 +29,11 @@ use crate::{InputError, Matrix, State, StepFailure, Vector};
 pub struct Dd {
     /// Newton's settings.
     pub newton: NewtonConfig,
-    /// Where V is quadratic, take the step in closed form (`exact_energy`); on the mobile
-    /// robot, solve Newton in the two unknowns of the kernel of `A(q̄)` (`dd_reduced`). Same
-    /// steps to round-off; `false` forces the general `(q̇₁, λ)` solve, which they are tested
-    /// against.
+    /// Where V is quadratic, take the step in closed form and end it in double-double
+    /// (`exact_energy`); on the mobile robot, solve Newton in the two unknowns of the kernel
+    /// of `A(q̄)` (`dd_reduced`). Same steps to round-off; `false` forces the general
+    /// `(q̇₁, λ)` solve, which they are tested against (in doubles: its energy error grows
+    /// with the run where the exact end's stays flat).
     pub fast_path: bool,
 }
 
