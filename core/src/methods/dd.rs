@@ -7,11 +7,10 @@
 //! Implicit in `(q̇₁, λ)`, solved by Newton with the Jacobian derived below (exact, but for
 //! the derivatives of that rounding). By default, where V is quadratic, in closed form and
 //! ended in double-double so that H stays at round-off however long the run
-//! ([`exact_energy`](super::exact_energy)); on
-//! the mobile robot in the two unknowns that remain once the midpoint constraint is built in
-//! and λ projected out ([`dd_reduced`](super::dd_reduced)); elsewhere (or with
-//! `fast_path: false`) in
-//! `(q̇₁, λ)` as written in MATH.md §3, starting from Euler's step with the driver's speed
+//! ([`exact_energy`](super::exact_energy)); on the mobile robot in the two unknowns that
+//! remain once the midpoint constraint is built in and λ projected out
+//! ([`dd_reduced`](super::dd_reduced)); elsewhere (or with `fast_path: false`) in `(q̇₁, λ)`
+//! as written in MATH.md §3, starting from Euler's step with the driver's speed
 //! extrapolated from the last steps
 //! ([`DriverHistory`](crate::driver_history::DriverHistory)), which saves the third iteration
 //! on most steps.

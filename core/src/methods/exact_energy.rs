@@ -68,7 +68,7 @@ pub(crate) fn step<S: System<N, R>, const N: usize, const R: usize>(
     // steps. (From `q`, `q̇` alone they would follow the doubles' own orbit, whose energy
     // drifts, and the compensations would grow to make up the difference.)
     let (q0, v0) = (st.q + st.q_compensation, st.v + st.v_compensation);
-    let g0 = if q0 == st.q { st.gradient(sys) } else { sys.gradient(&q0) };
+    let g0 = sys.gradient(&q0);
     let sigma = (2.0 * v0[z] - h * g0[z]) / (1.0 + 0.25 * h * h * sys.driver_potential_d2(q0[z]));
     let mut mid = AngleTracker::new();
     let a = mid.terms(sys, q0[z] + 0.25 * h * sigma).constraint;
@@ -92,29 +92,29 @@ pub(crate) fn step<S: System<N, R>, const N: usize, const R: usize>(
     Ok(())
 }
 
-/// A step as a path solved it in doubles: `s = q̇₀ + q̇₁ = w k̃ + σ e_ζ`, with k̃ at the
+/// The step as [`step`] solved it in doubles: `s = q̇₀ + q̇₁ = w k̃ + σ e_ζ`, with k̃ at the
 /// step's ζ̄, and q̇₁.
-pub(crate) struct Solved<const N: usize> {
+struct Solved<const N: usize> {
     /// k̃(ζ̄).
-    pub(crate) k: Vector<N>,
+    k: Vector<N>,
     /// s's coordinate along k̃.
-    pub(crate) w: f64,
+    w: f64,
     /// s's driver component, `ζ̇₀ + ζ̇₁`.
-    pub(crate) sigma: f64,
+    sigma: f64,
     /// q̇₁.
-    pub(crate) v1: Vector<N>,
+    v1: Vector<N>,
 }
 
 /// Moves `st` (still at the step's start) to the end of the step `solved`, in double-double
-/// (see the module's doc). Only where it [`applies`].
+/// (see the module's doc).
 ///
-/// The state's doubles (`q`, `q̇`) are the path's own end, as `State::advance_to` would
-/// leave them, and are ready as soon as the path is done: the next step, which starts from
+/// The state's doubles (`q`, `q̇`) are the closed form's own end, as `State::advance_to`
+/// would leave them, and are ready as soon as it is done: the next step, which starts from
 /// them, does not wait for the double-double work, which only puts the exact remainders into
-/// the compensations (they are small: the path solved the same equations from the same
-/// state, to an ulp).
+/// the compensations (they are small: the closed form solved the same equations from the
+/// same state, to an ulp).
 #[inline]
-pub(crate) fn finish<S: System<N, R>, const N: usize, const R: usize>(
+fn finish<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
     st: &mut State<N, R>,
     solved: &Solved<N>,
@@ -161,7 +161,7 @@ fn finish_with<S: System<N, R>, const N: usize, const R: usize, P: Products>(
     let (q, q_lo, v, v_lo) = (st.q, st.q_compensation, st.v, st.v_compensation);
     let q0 = |i: usize| DoubleDouble::<P>::new(q[i], q_lo[i]);
     let v0 = |i: usize| DoubleDouble::<P>::new(v[i], v_lo[i]);
-    // The doubles: the path's end, q moved by Kahan's step as `advance_to` does.
+    // The doubles: the closed form's end, q moved by Kahan's step as `advance_to` does.
     st.advance_to((v + v1) * (0.5 * h), v1);
 
     // V's coefficients: ∇V(q) = ∇V(0) + ∇²V q, driver and passenger apart. Terms with a zero
