@@ -1,8 +1,8 @@
 //! [`DriverHistory`]: the driver's last speed increments, from which DD guesses the driver's
 //! speed at the end of its next step for Newton. Used where V_d is not quadratic
 //! (`cvt_pendulum`, the mobile robot; where V is quadratic DD starts from the exact solution
-//! instead): by the `(q̇₁, λ)` solve of DD and DD-AVF, by DD's reduced solve (`dd_reduced`)
-//! and by DD-AVF's coupled path (`dd_avf_coupled`) for its driver's scalar Newton.
+//! instead): by the `(q̇₁, λ)` solve of DD and DD-AVF and by DD's reduced solve
+//! (`dd_reduced`).
 //!
 //! DD starts Newton from an explicit Euler step, accurate to O(h²). Most of that error is
 //! harmless: the passenger's velocity and λ enter DD's equations (nearly) linearly, so Newton
@@ -136,7 +136,7 @@ mod tests {
     fn a_guess_newton_fails_from_falls_back_to_euler() {
         let pendulum = CvtPendulum { epsilon: 0.5 };
         falls_back_to_euler(&pendulum, 3, &Dd::default());
-        // DD-AVF's coupled path, whose driver's scalar Newton starts from the guess.
+        // DD-AVF's `(q̇₁, λ)` solve, which starts from the guess too.
         falls_back_to_euler(&pendulum, 3, &DdAvf::default());
         // DD's reduced solve.
         falls_back_to_euler(&MobileRobot, 0, &Dd::default());
@@ -173,7 +173,7 @@ mod tests {
         for (gap, used) in [
             guess_vs_euler(&CvtPendulum { epsilon: 0.5 }, &Dd::default(), 0.1, 2000),
             guess_vs_euler(&MobileRobot, &Dd::default(), 0.05, 2000),
-            // The general path (DD-AVF's default is its coupled split).
+            // The general path (where V is quadratic DD-AVF's default is DD's closed form).
             guess_vs_euler(&Particle, &DdAvf { fast_path: false, ..DdAvf::default() }, 0.1, 2000),
         ] {
             assert_eq!(used, 1997, "every step after the first three");

@@ -2,7 +2,6 @@
 
 mod dd;
 mod dd_avf;
-mod dd_avf_coupled;
 mod dd_reduced;
 mod dla;
 mod dla01;

@@ -3,7 +3,7 @@
 //! On a coupled system `A = [A_x(ζ) | 0]`; where the passenger's kernel is one line
 //! (`N = R + 2`), the midpoint constraint of DD and DD-AVF says that `q̇₀ + q̇₁` is
 //! `w k̃(ζ̄)` plus a driver component, which turns their passenger solves into one unknown
-//! (`dd_reduced`, `dd_avf_coupled`). `k̃` is not normalized, so no square root enters: it is
+//! (`dd_reduced`, `exact_energy`). `k̃` is not normalized, so no square root enters: it is
 //! `(−a₂, a₁)` for one constraint, the cross product of the two rows for two (every test
 //! system is one of these).
 

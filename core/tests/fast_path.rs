@@ -1,5 +1,5 @@
-//! The coupled fast paths (issue 4: DLA^α's, DLA^{0,1}'s and DD-AVF's), and DD's closed
-//! form where V is quadratic (`exact_energy`) and two-unknown solve on the mobile robot
+//! The coupled fast paths (issue 4: DLA^α's and DLA^{0,1}'s), and DD's (and DD-AVF's) closed
+//! form where V is quadratic (`exact_energy`) and DD's two-unknown solve on the mobile robot
 //! (`dd_reduced`), against the general Newton solves: from every state of
 //! a trajectory on every system (each preset), one step of each gives the same
 //! `(q₁, q̇₁, λ₁)` to 1e-13 (relative to the state's size). Steps are compared one at a time

@@ -203,8 +203,8 @@ impl<F, const N: usize, const R: usize> DiscreteGradient<N, R> for F where
 /// the step's end follow from its last iterate by a tiny rotation. `diagonal_gradient_jacobian`
 /// says whether that derivative can be diagonal (then Newton's matrix is checked for the
 /// shape that [`linalg::inverse_maybe_bordered`](crate::linalg) inverts cheaply). The general
-/// `(q̇₁, λ)` solve, shared by `dd` (Gonzalez) and `dd_avf` (average vector field); their fast
-/// paths are `dd_reduced` and `dd_avf_coupled`.
+/// `(q̇₁, λ)` solve, shared by `dd` (Gonzalez) and `dd_avf` (average vector field); DD's
+/// faster solves are `exact_energy` (DD-AVF's too) and `dd_reduced`.
 #[inline]
 pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,

@@ -8,9 +8,17 @@
 //! test system) or V_d is quadratic, the average of its affine gradient is taken at the
 //! midpoint instead. Unlike Gonzalez's gradient, the driver's update then sees the driver
 //! alone, so the method can preserve the fibration while conserving H.
+//!
+//! Where V is quadratic (the knife edge, `cvt`, `particle`, the rolling disk) the AVF gradient
+//! is `∇V(q̄)`, Gonzalez's without its correction, so DD-AVF is DD there and takes DD's step in
+//! closed form, ended in double-double ([`exact_energy`](super::exact_energy)): H stays at
+//! round-off however long the run. Elsewhere it solves `(q̇₁, λ)` by Newton (`dd`'s
+//! `discrete_derivative_step`). A coupled split (the driver's row alone, then the passenger
+//! by one division) measured 1.0–1.8× the general solve (`docs/benchmarks.md`, 2026-11-25),
+//! short of the 2× issue 4 asks of a fast path, and was removed.
 
 use super::dd::discrete_derivative_step;
-use super::dd_avf_coupled::{self, coupled_step};
+use super::exact_energy;
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::newton::NewtonConfig;
@@ -22,10 +30,9 @@ use crate::{InputError, Matrix, State, StepFailure, Vector};
 pub struct DdAvf {
     /// Newton's settings.
     pub newton: NewtonConfig,
-    /// Take the coupled fast path where U is quadratic and the passenger's kernel is one line
-    /// (every test system): the driver's update alone, then the passenger's as one unknown
-    /// along that kernel (`dd_avf_coupled`); `false` forces the general Newton solve in
-    /// `(q̇₁, λ)`, which it is tested against.
+    /// Where V is quadratic, take DD's step in closed form ended in double-double
+    /// (`exact_energy`: the same equations there, H at round-off); `false` forces the general
+    /// Newton solve in `(q̇₁, λ)`, which it is tested against.
     pub fast_path: bool,
 }
 
@@ -93,7 +100,7 @@ fn avf_gradient<S: System<N, R>, const N: usize, const R: usize>(
 /// The driver's part of the AVF gradient, `ḡ = ∫₀¹ V_d'(ζ₀ + sΔζ) ds`, and its derivative
 /// with respect to ζ₁, given `V_d(ζ₀)`; V_d at ζ₁ through the tracker.
 #[inline]
-pub(super) fn avf_driver_mean<S: System<N, R>, const N: usize, const R: usize>(
+fn avf_driver_mean<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
     (z0, vd0): (f64, f64),
     dz: f64,
@@ -130,8 +137,8 @@ impl Integrator for DdAvf {
         st: &mut State<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
-        if self.fast_path && dd_avf_coupled::applies::<S, N, R>() {
-            return coupled_step(sys, st, h, &self.newton);
+        if self.fast_path && exact_energy::applies::<S, N, R>() {
+            return exact_energy::step(sys, st, h);
         }
         let q0 = st.q;
         let vd0 = st.driver_potential_and_constraint(sys).0;

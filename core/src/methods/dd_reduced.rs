@@ -1,7 +1,6 @@
 //! DD's reduced Newton solve on the coupled systems: the same equations as
 //! [`discrete_derivative_step`](super::dd::discrete_derivative_step), in two unknowns instead
-//! of `N + R`. (DD-AVF has its own split, `dd_avf_coupled`, which needs no Newton for the
-//! passenger.)
+//! of `N + R`.
 //!
 //! The midpoint constraint `A(q̄)(q̇₀ + q̇₁) = 0` says that `s = q̇₀ + q̇₁` lies in the kernel of
 //! `A(ζ̄) = [A_x(ζ̄) | 0]`, which on a coupled system is spanned by `(k̃(ζ̄), 0)` and the

@@ -33,10 +33,8 @@
 //! `∇V(q) = ∇V(0) + ∇²V q` with the system's own coefficients; the integrals evaluate it in
 //! doubles, to an ulp of its terms.
 //!
-//! DD-AVF is the same method where V is quadratic, but keeps its own coupled path in doubles
-//! (`dd_avf_coupled`, 29–41 ns/step there against ~65–100 with this end): the issue asks
-//! for DD's energy at round-off, and DD-AVF's speed is worth more to its users than its last
-//! digits on 10⁸-step runs (`docs/stability.md`).
+//! DD-AVF is the same method where V is quadratic (its average of an affine gradient is
+//! `∇V(q̄)`), and takes this step there too.
 
 use crate::angle_tracker::AngleTracker;
 use crate::double_double::{Dekker, DoubleDouble, Fused, Products, Sum2};
