@@ -6,7 +6,8 @@
   and on SIGTERM.
 - `post_json`, `stream`: one POST /simulate as JSON, or as server-sent events read to the end
   (every event, parsed), with the client's wall time.
-- `rss_kib`, `hwm_kib`, `reset_hwm`, `cpu_seconds`: the server's memory and CPU from /proc.
+- `rss_kib`, `hwm_kib`, `reset_hwm`, `cpu_seconds`, `thread_cpu_ns`: the server's memory and
+  CPU from /proc.
 
 Only loopback traffic.
 """
@@ -209,6 +210,21 @@ def cpu_seconds(pid):
         fields = f.read().rsplit(")", 1)[1].split()
     # fields[0] is field 3 (state); utime and stime are fields 14 and 15.
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def thread_cpu_ns(pid):
+    """CPU time of the process's live threads, in nanoseconds (per-thread schedstat: exact,
+    where `cpu_seconds` counts clock ticks). Returns (ns, thread ids): a thread that ended
+    between two readings takes its time with it, so compare the ids too."""
+    total, tids = 0, set()
+    for tid in os.listdir(f"/proc/{pid}/task"):
+        try:
+            with open(f"/proc/{pid}/task/{tid}/schedstat") as f:
+                total += int(f.read().split()[0])
+            tids.add(tid)
+        except OSError:
+            pass
+    return total, tids
 
 
 class RssSampler:
