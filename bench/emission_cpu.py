@@ -38,8 +38,8 @@ SCENES = {
     },
     "long": {
         "label": "knife_edge/paper, leapfrog, 10⁷ steps",
-        "body": {"system": "knife_edge", "preset": "paper", "methods": ["leapfrog"],
-                 "t_end": (10**7 + 0.5) * 0.3141592653589793},
+        "body": {"system": "knife_edge", "preset": "paper", "methods": ["leapfrog"]},
+        "steps": 10**7,  # t_end from the preset's step, read from /systems
     },
 }
 
@@ -87,13 +87,18 @@ def main():
     args = ap.parse_args()
     scene = SCENES[args.scene]
     server = Server(build(args.no_build), port=args.port)
+    body = dict(scene["body"])
+    if "steps" in scene:
+        system = next(s for s in server.get("/systems")["systems"] if s["id"] == body["system"])
+        step = next(p for p in system["presets"] if p["id"] == body["preset"])["step"]
+        body["t_end"] = (scene["steps"] + 0.5) * step
     conditions = [(d, p) for d in ("stream", "json") for p in (10, 1000)]
     cpu = {c: [] for c in conditions}
     runs = {c: [] for c in conditions}
     size = {}
     for i in range(args.rounds):
         for d, p in conditions:
-            c, r, n = block(server, {**scene["body"], "points": p}, d, args.reps)
+            c, r, n = block(server, {**body, "points": p}, d, args.reps)
             cpu[(d, p)].append(c)
             runs[(d, p)].append(r)
             size[(d, p)] = n
@@ -116,8 +121,8 @@ def main():
     streaming = med[("stream", 1000)] - med[("json", 1000)]
     print()
     summary = (
-        f"compute {compute:.2f} ms; dense output: stream +{dense_stream:.2f} ms "
-        f"({dense_stream / compute:+.1%}), JSON +{dense_json:.2f} ms ({dense_json / compute:+.1%}); "
+        f"compute {compute:.2f} ms; dense output: stream {dense_stream:+.2f} ms "
+        f"({dense_stream / compute:+.1%}), JSON {dense_json:+.2f} ms ({dense_json / compute:+.1%}); "
         f"stream beyond JSON {streaming:+.2f} ms ({streaming / compute:+.1%})"
     )
     print("SUMMARY " + summary)

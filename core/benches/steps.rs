@@ -24,13 +24,7 @@ fn methods() -> Vec<(String, Method)> {
 fn bench_system<S: System<N, R>, const N: usize, const R: usize>(c: &mut Criterion) {
     let info = S::info();
     let p = &info.presets[0];
-    let mut params: Vec<f64> = info.params.iter().map(|s| s.default).collect();
-    for (name, value) in p.params {
-        if let Some(i) = info.params.iter().position(|s| s.name == *name) {
-            params[i] = *value;
-        }
-    }
-    let sys = S::new(&params);
+    let sys = S::new(&info.preset_params(p));
     let start = State::with_continuous_multiplier(
         &sys,
         Vector::<N>::from_column_slice(p.q),

@@ -13,7 +13,7 @@ fn run<S: System<N, R>, const N: usize, const R: usize>(system: &str, m: &Method
         return;
     }
     let p = &S::info().presets[0];
-    let sys = S::new(&S::info().params.iter().map(|s| s.default).collect::<Vec<_>>());
+    let sys = S::new(&S::info().preset_params(p));
     let (q, v) = (Vector::<N>::from_column_slice(p.q), Vector::<N>::from_column_slice(p.v));
     let mut st = State::with_continuous_multiplier(&sys, q, v).expect("a preset is regular");
     m.steps(&sys, &mut st, p.step, steps).expect("the preset runs");

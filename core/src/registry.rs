@@ -339,6 +339,24 @@ mod tests {
         ids.push(S::info().id);
     }
 
+    /// Every preset names only parameters its system has (`SystemInfo::preset_params` would
+    /// otherwise drop a misspelled one silently).
+    #[test]
+    fn presets_name_only_their_systems_parameters() {
+        for info in SYSTEMS.iter().map(SystemEntry::info) {
+            for preset in info.presets {
+                for (name, _) in preset.params {
+                    assert!(
+                        info.params.iter().any(|p| p.name == *name),
+                        "{}/{} names an unknown parameter {name}",
+                        info.id,
+                        preset.id
+                    );
+                }
+            }
+        }
+    }
+
     /// `for_each_system!` covers `SYSTEMS`, in its order.
     #[test]
     fn for_each_system_follows_the_registry() {

@@ -82,6 +82,24 @@ pub struct SystemInfo {
     pub presets: &'static [Preset],
 }
 
+impl SystemInfo {
+    /// The parameter values of `preset`, in the order [`System::new`] takes them: the preset's
+    /// own, the rest at their defaults. (A preset names only parameters of its system: a test
+    /// in `registry` checks every one.) Requests are resolved with checks by `Scene::resolve`.
+    pub fn preset_params(&self, preset: &Preset) -> Vec<f64> {
+        self.params
+            .iter()
+            .map(|spec| {
+                preset
+                    .params
+                    .iter()
+                    .find(|(name, _)| *name == spec.name)
+                    .map_or(spec.default, |p| p.1)
+            })
+            .collect()
+    }
+}
+
 /// Everything in a system that depends on the driver ζ, at one ζ.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DriverTerms<const N: usize, const R: usize> {

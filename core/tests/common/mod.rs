@@ -33,12 +33,7 @@ pub fn preset_start<S: System<N, R>, const N: usize, const R: usize>(
 ) -> (S, State<N, R>, f64) {
     let info = S::info();
     let p = &info.presets[index];
-    let mut params: Vec<f64> = info.params.iter().map(|s| s.default).collect();
-    for (name, value) in p.params {
-        let i = info.params.iter().position(|s| s.name == *name).unwrap();
-        params[i] = *value;
-    }
-    let sys = S::new(&params);
+    let sys = S::new(&info.preset_params(p));
     let st = State::with_continuous_multiplier(
         &sys,
         Vector::<N>::from_column_slice(p.q),
