@@ -85,36 +85,6 @@ pub fn solve<const N: usize, const R: usize>(
     Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment })
 }
 
-/// Solves the scalar equation `f(x) = 0` from `x`, in place; `f` returns the value and the
-/// derivative. Same stopping rule as [`solve`]. The coupled fast paths use it for the
-/// driver, whose update does not see the passenger.
-#[inline]
-pub fn solve_scalar(
-    cfg: &NewtonConfig,
-    x: &mut f64,
-    mut f: impl FnMut(f64) -> (f64, f64),
-) -> Result<u32, StepFailure> {
-    let mut previous = f64::INFINITY;
-    let mut increment = f64::INFINITY;
-    for it in 1..=cfg.max_iter {
-        let (value, slope) = f(*x);
-        if slope == 0.0 {
-            return Err(StepFailure::Singular);
-        }
-        let dx = -value / slope;
-        *x += dx;
-        increment = dx.abs();
-        if !increment.is_finite() {
-            return Err(StepFailure::NonFinite);
-        }
-        if cfg.converged(increment, previous, 1.0 + x.abs()) {
-            return Ok(it);
-        }
-        previous = increment;
-    }
-    Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment })
-}
-
 /// Solves the two equations `f(x) = 0` from `x`, in place; `f` returns the values and the
 /// Jacobian. Same stopping rule as [`solve`]. Returns the last increment as computed, before
 /// its addition to `x` rounded it to `x`'s grid: a caller may apply it to finer quantities

@@ -271,7 +271,7 @@ mod tests {
     use super::*;
     use crate::method::Integrator;
     use crate::methods::{Dla, Dla01, Leapfrog, Rk4};
-    use crate::systems::{CvtPendulum, MobileRobot};
+    use crate::systems::{Cvt, CvtPendulum, MobileRobot, Particle};
 
     /// Steps with the remembered `∇V`, `A` against steps that evaluate them afresh.
     fn remembered_vs_fresh<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
@@ -304,11 +304,15 @@ mod tests {
         // Leap-frog remembers exactly what it would evaluate: bitwise the same steps.
         assert_eq!(remembered_vs_fresh(&pendulum, &Leapfrog, 0.1), 0.0);
         assert_eq!(remembered_vs_fresh(&MobileRobot, &Leapfrog, 0.05), 0.0);
-        // DLA^{0,1} only remembers (for the integrals), at the ζ₁ it predicted the state holds.
-        assert_eq!(remembered_vs_fresh(&pendulum, &Dla01::default(), 0.1), 0.0);
-        assert_eq!(remembered_vs_fresh(&MobileRobot, &Dla01::default(), 0.05), 0.0);
-        // DLA^α's fast path remembers V_d'(ζ₁) one Taylor step from its last iterate.
+        // DLA^{0,1}'s fast path only remembers (for the integrals), at the ζ₁ it predicted the
+        // state holds; DLA^α's evaluates at ζ₁ as the state holds it.
+        assert_eq!(remembered_vs_fresh(&Cvt, &Dla01::default(), 0.1), 0.0);
         let dla = Dla { alpha: 0.4, ..Dla::default() };
+        assert_eq!(remembered_vs_fresh(&Particle, &dla, 0.1), 0.0);
+        // Their general paths (every angle-driven system) rotate the driver's terms from the
+        // last Newton iterate's.
+        assert!(remembered_vs_fresh(&pendulum, &Dla01::default(), 0.1) < 1e-12);
+        assert!(remembered_vs_fresh(&MobileRobot, &Dla01::default(), 0.05) < 1e-12);
         assert!(remembered_vs_fresh(&pendulum, &dla, 0.1) < 1e-12);
         assert!(remembered_vs_fresh(&MobileRobot, &Dla::default(), 0.05) < 1e-12);
         // RK4's first stage is the q̈ its last step ended with, computed the same way.

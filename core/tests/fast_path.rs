@@ -1,6 +1,6 @@
-//! The coupled fast paths (issue 4: DLA^α's and DLA^{0,1}'s), and DD's (and DD-AVF's) closed
-//! form where V is quadratic (`exact_energy`) and DD's two-unknown solve on the mobile robot
-//! (`dd_reduced`), against the general Newton solves: from every state of
+//! The coupled fast paths (issue 4: DLA^α's and DLA^{0,1}'s, on `cvt` and `particle`), DD's
+//! (and DD-AVF's) closed form where V is quadratic (`exact_energy`) and DD's two-unknown solve
+//! on the mobile robot (`dd_reduced`), against the general Newton solves: from every state of
 //! a trajectory on every system (each preset), one step of each gives the same
 //! `(q₁, q̇₁, λ₁)` to 1e-13 (relative to the state's size). Steps are compared one at a time
 //! from the same state, not as whole trajectories, whose sensitivity would amplify the
@@ -67,16 +67,28 @@ fn fast_paths_take_the_general_paths_steps() {
 }
 
 /// The test above can fail: a fast path with a wrong equation (here, DLA's with another α
-/// than the general path's) is caught at the first step.
+/// than the general path's) is caught at the first step (on `cvt`, where DLA's fast path runs).
 #[test]
 fn a_different_method_is_caught() {
-    let (sys, st, h) = preset_start::<nhlab_core::systems::CvtPendulum, 3, 1>(0);
+    let (sys, st, h) = preset_start::<nhlab_core::systems::Cvt, 3, 1>(0);
     let (mut a, mut b) = (st, st);
     Method::Dla(Dla { alpha: 0.5, ..Dla::default() }).step(&sys, &mut a, h).unwrap();
     Method::Dla(Dla { alpha: 0.5 + 1e-9, fast_path: false, ..Dla::default() })
         .step(&sys, &mut b, h)
         .unwrap();
     assert!((a.v - b.v).amax() / size(&b) > TOL);
+}
+
+/// DLA^α's and DLA^{0,1}'s fast paths run only where they measured at least 2× their general
+/// paths (issue 4): on `cvt` and `particle`. Elsewhere `fast_path: true` takes the general
+/// solve, so the comparison above holds there trivially.
+#[test]
+fn dla_fast_paths_run_where_they_pay() {
+    use nhlab_core::methods::coupled_fast_path;
+    use nhlab_core::systems::*;
+    assert!(coupled_fast_path::<Cvt, 3, 1>() && coupled_fast_path::<Particle, 3, 1>());
+    assert!(!coupled_fast_path::<CvtPendulum, 3, 1>() && !coupled_fast_path::<KnifeEdge, 3, 1>());
+    assert!(!coupled_fast_path::<RollingDisk, 4, 2>() && !coupled_fast_path::<MobileRobot, 4, 2>());
 }
 
 /// States along the trajectory from which the two paths step.

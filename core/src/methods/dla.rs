@@ -3,16 +3,17 @@
 //! Second order and reversible only for α = ½; the paper's DLA^0.4 is its non-reversible
 //! counterexample. Implicit in `(q̇₁, λ)`, solved by Newton with the exact Jacobian.
 //!
-//! The coupled fast path (default, when U is quadratic): the driver's update
-//! `ζ̇₁ = ζ̇₀ − αh V_d'(ζ₀) − (1−α)h V_d'(ζ₁)` does not see the passenger, so it is one scalar
-//! Newton solve (a single step where V_d is quadratic, `System::QUADRATIC_DRIVER`); with ζ₁
-//! known and `∇U` affine, the passenger update is one linear saddle solve. Same equations,
-//! same result to round-off, without the N×N Newton iterations.
+//! The coupled fast path (default, where [`coupled_fast_path`] says it pays: `cvt`,
+//! `particle`): the driver's update `ζ̇₁ = ζ̇₀ − αh V_d'(ζ₀) − (1−α)h V_d'(ζ₁)` does not see the
+//! passenger and, V_d being quadratic, is affine in ζ̇₁: one division. With ζ₁ known and `∇U`
+//! affine, the passenger's update is one linear saddle solve. Same equations, same result to
+//! round-off, without the N×N Newton iterations.
 
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
-use crate::newton::{Linearization, NewtonConfig, solve, solve_affine_scalar, solve_scalar};
-use crate::system::{DriverTerms, ParamSpec, System};
+use crate::methods::coupled_fast_path;
+use crate::newton::{Linearization, NewtonConfig, solve, solve_affine_scalar};
+use crate::system::{ParamSpec, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector, linalg};
 
 /// DLA^α.
@@ -22,7 +23,7 @@ pub struct Dla {
     pub alpha: f64,
     /// Newton's settings.
     pub newton: NewtonConfig,
-    /// Take the coupled fast path when the system allows it (same steps to round-off);
+    /// Take the coupled fast path where it pays ([`coupled_fast_path`]; same steps to round-off);
     /// `false` forces the general Newton solve, which the fast path is tested against.
     pub fast_path: bool,
 }
@@ -78,7 +79,7 @@ impl Integrator for Dla {
         let a_qa = sys.constraint(q_a[N - 1]);
         let g0 = st.gradient(sys);
         let v0 = st.v;
-        if self.fast_path && S::QUADRATIC_PASSENGER {
+        if self.fast_path && coupled_fast_path::<S, N, R>() {
             return self.step_coupled(sys, st, h, q_a, &a_qa, &g0);
         }
         let g = a_qa.transpose() * (-h);
@@ -106,13 +107,17 @@ impl Integrator for Dla {
         })?;
         st.advance_to((1.0 - a) * h * st.v + a * h * v1, v1);
         st.lambda = lambda;
+        // What the next step and the integrals need at q₁, one Newton increment from the
+        // tracker's last iterate: a rotation, where evaluating would call `sin_cos`.
+        let at_q1 = tracker.terms(sys, st.q[N - 1]);
+        st.remember_at_end(at_q1.gradient(sys, &st.q), at_q1.constraint, at_q1.potential);
         Ok(())
     }
 }
 
 impl Dla {
-    /// The coupled fast path (see the module's doc): `q_a`, `A(q_a)` and `∇V(q₀)` as the
-    /// general path computes them.
+    /// The coupled fast path (see the module's doc), where [`coupled_fast_path`] holds:
+    /// `q_a`, `A(q_a)` and `∇V(q₀)` as the general path computes them.
     #[inline]
     fn step_coupled<S: System<N, R>, const N: usize, const R: usize>(
         &self,
@@ -125,30 +130,16 @@ impl Dla {
     ) -> Result<(), StepFailure> {
         let a = self.alpha;
         let (z_a, b) = (q_a[N - 1], 1.0 - a);
-        // Driver alone: F(w) = w − ζ̇₀ + αh V_d'(ζ₀) + (1−α)h V_d'(ζ_a + αh w) = 0.
+        // Driver alone: F(w) = w − ζ̇₀ + αh V_d'(ζ₀) + (1−α)h V_d'(ζ_a + αh w) = 0, affine in w
+        // (V_d quadratic): one Newton step from Euler's guess solves it.
         let rhs = st.v[N - 1] - a * h * g0[N - 1];
         let mut w = rhs - b * h * g0[N - 1];
-        // A, A', V_d, V_d', V_d'' at an iterate share one sin/cos (after the first iterate,
-        // rotated from the previous one's: `AngleTracker`); A(ζ₁) at the solution
-        // is then one Taylor step away when the last increment is tiny, and so are the
-        // values at the stored ζ₁ that the next step and the integrals use.
-        let (mut last, mut tracker) = (None, AngleTracker::new());
-        let driver = |w: f64| {
-            let at = Taylor::at(sys, &mut tracker, z_a + a * h * w);
-            let value_slope =
-                (w - rhs + b * h * at.at.potential_d1, 1.0 + a * b * h * h * at.at.potential_d2);
-            last = Some(at);
-            value_slope
-        };
-        if S::QUADRATIC_DRIVER {
-            solve_affine_scalar(&mut w, driver)?;
-        } else {
-            solve_scalar(&self.newton, &mut w, driver)?;
-        }
-        let z1 = z_a + a * h * w;
-        // Newton evaluated at least once if it succeeded; the fallback is never taken.
-        let last = last.unwrap_or_else(|| Taylor::at(sys, &mut tracker, z1));
-        let a1 = last.constraint(sys, z1);
+        solve_affine_scalar(&mut w, |w| {
+            let z = z_a + a * h * w;
+            let (d1, d2) = (sys.driver_potential_d1(z), sys.driver_potential_d2(z));
+            (w - rhs + b * h * d1, 1.0 + a * b * h * h * d2)
+        })?;
+        let a1 = sys.constraint(z_a + a * h * w);
         // Passenger, with ∇U(q₁) = ∇U(q_a) + αh K q̇₁ exact for quadratic U:
         // (I + α(1−α)h²K) q̇₁ − h A_aᵀλ = q̇₀ − αh∇V(q₀) − (1−α)h∇U(q_a), A(ζ₁) q̇₁ = 0.
         // The driver row of K and the driver column of A vanish, so that row reads q̇₁_ζ = w.
@@ -169,51 +160,11 @@ impl Dla {
         v1[N - 1] = w;
         st.advance_to((1.0 - a) * h * st.v + a * h * v1, v1);
         st.lambda = lambda;
+        // What the next step starts from and the integrals need, at ζ₁ as the state holds it.
         let zeta = st.q[N - 1];
         let mut g1 = sys.passenger_gradient(&st.q);
-        g1[N - 1] = last.d1(sys, zeta);
-        st.remember_at_end(g1, last.constraint(sys, zeta), last.potential(sys, zeta));
+        g1[N - 1] = sys.driver_potential_d1(zeta);
+        st.remember_at_end(g1, sys.constraint(zeta), sys.driver_potential(zeta));
         Ok(())
-    }
-}
-
-/// The driver's functions at a point ζ*, and their Taylor expansions to a ζ within 10⁻⁸ of
-/// it (A and V_d' to first order, V_d to second), where the neglected terms (`|A''| dz²/2`,
-/// `|V_d'''| dz²/2`, `|V_d'''| dz³/6`) are below 10⁻¹⁵; farther away they are evaluated.
-struct Taylor<const N: usize, const R: usize> {
-    zeta: f64,
-    at: DriverTerms<N, R>,
-}
-
-impl<const N: usize, const R: usize> Taylor<N, R> {
-    #[inline]
-    fn at<S: System<N, R>>(sys: &S, tracker: &mut AngleTracker, zeta: f64) -> Self {
-        Self { zeta, at: tracker.terms(sys, zeta) }
-    }
-    #[inline]
-    fn near(&self, zeta: f64) -> Option<f64> {
-        let dz = zeta - self.zeta;
-        (dz.abs() <= 1e-8).then_some(dz)
-    }
-    #[inline]
-    fn constraint<S: System<N, R>>(&self, sys: &S, zeta: f64) -> Matrix<R, N> {
-        let t = &self.at;
-        self.near(zeta)
-            .map_or_else(|| sys.constraint(zeta), |dz| t.constraint + t.constraint_d * dz)
-    }
-    #[inline]
-    fn d1<S: System<N, R>>(&self, sys: &S, zeta: f64) -> f64 {
-        let t = &self.at;
-        self.near(zeta).map_or_else(
-            || sys.driver_potential_d1(zeta),
-            |dz| t.potential_d1 + t.potential_d2 * dz,
-        )
-    }
-    #[inline]
-    fn potential<S: System<N, R>>(&self, sys: &S, zeta: f64) -> f64 {
-        self.near(zeta).map_or_else(
-            || sys.driver_potential(zeta),
-            |dz| self.at.potential + dz * (self.at.potential_d1 + 0.5 * self.at.potential_d2 * dz),
-        )
     }
 }

@@ -2,13 +2,15 @@
 //! taken at the midpoint `q₀ + (h/2) q̇₀`, the constraint is imposed at `q₁`.
 //!
 //! Second order and reversible. Implicit in `(q̇₁, λ)`, solved by Newton with the exact
-//! Jacobian (the nonlinearity is only through `A(ζ₁)`). The coupled fast path (default)
-//! uses that `A` has no driver column: the driver's update `ζ̇₁ = ζ̇₀ − h V_d'(ζ_½)` is then
-//! explicit, so is `ζ₁`, and λ follows from one R×R solve — the step becomes explicit, with
-//! the same result as Newton's to round-off.
+//! Jacobian (the nonlinearity is only through `A(ζ₁)`). The coupled fast path (default,
+//! where [`coupled_fast_path`] says it pays: `cvt`, `particle`) uses that `A` has no driver
+//! column: the driver's update `ζ̇₁ = ζ̇₀ − h V_d'(ζ_½)` is then explicit, so is `ζ₁`, and λ
+//! follows from one R×R solve — the step becomes explicit, with the same result as Newton's
+//! to round-off.
 
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
+use crate::methods::coupled_fast_path;
 use crate::newton::{Linearization, NewtonConfig, solve};
 use crate::system::{System, constraint_force};
 use crate::{InputError, Matrix, State, StepFailure, linalg};
@@ -18,8 +20,9 @@ use crate::{InputError, Matrix, State, StepFailure, linalg};
 pub struct Dla01 {
     /// Newton's settings (general path).
     pub newton: NewtonConfig,
-    /// Take the explicit coupled fast path (same steps to round-off); `false` forces the
-    /// general Newton solve, which the fast path is tested against.
+    /// Take the explicit coupled fast path where it pays ([`coupled_fast_path`]; same steps
+    /// to round-off); `false` forces the general Newton solve, which the fast path is tested
+    /// against.
     pub fast_path: bool,
 }
 
@@ -60,7 +63,7 @@ impl Integrator for Dla01 {
         let a_half = sys.constraint(q_half[N - 1]);
         let g_half = sys.gradient(&q_half);
         let w = st.v - h * g_half;
-        if self.fast_path {
+        if self.fast_path && coupled_fast_path::<S, N, R>() {
             // v₁ = w + h A_½ᵀ λ has the driver speed of w (A has no driver column), so ζ₁ is
             // known, and A(ζ₁) v₁ = 0 gives (h A₁ A_½ᵀ) λ = −A₁ w.
             // ζ₁ exactly as the state will hold it (λ does not move ζ), so that the constraint
@@ -105,6 +108,10 @@ impl Integrator for Dla01 {
         })?;
         st.advance_to(0.5 * h * (st.v + v1), v1);
         st.lambda = lambda;
+        // What the integrals need at q₁, one Newton increment from the tracker's last iterate:
+        // a rotation, where evaluating would call `sin_cos`.
+        let at_q1 = tracker.terms(sys, st.q[N - 1]);
+        st.remember_at_end(at_q1.gradient(sys, &st.q), at_q1.constraint, at_q1.potential);
         Ok(())
     }
 }
