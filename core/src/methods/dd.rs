@@ -243,6 +243,7 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
             g: a_mid.transpose() * (-h),
             c,
             b_maybe_bordered: diagonal_gradient_jacobian,
+            affine_but_for_the_driver: false,
         }
     };
     // Euler's guess with the driver's speed extrapolated from its last steps where they are

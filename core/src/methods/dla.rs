@@ -103,6 +103,7 @@ impl Integrator for Dla {
                 g,
                 c,
                 b_maybe_bordered: true,
+                affine_but_for_the_driver: true,
             }
         })?;
         st.advance_to((1.0 - a) * h * st.v + a * h * v1, v1);

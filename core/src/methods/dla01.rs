@@ -104,6 +104,7 @@ impl Integrator for Dla01 {
                 g,
                 c,
                 b_maybe_bordered: true,
+                affine_but_for_the_driver: true,
             }
         })?;
         st.advance_to(0.5 * h * (st.v + v1), v1);
