@@ -9,7 +9,7 @@
 //! round-off's, as on their general paths.
 
 mod common;
-use common::{preset_start, size};
+use common::{preset_start, size, step_difference};
 use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01};
 use nhlab_core::{Method, System};
 
@@ -42,9 +42,7 @@ fn same_steps<S: System<N, R>, const N: usize, const R: usize>() {
                 let (mut a, mut b) = (st, st);
                 fast.step(&sys, &mut a, h).unwrap();
                 general.step(&sys, &mut b, h).unwrap();
-                let diff =
-                    (a.q - b.q).amax().max((a.v - b.v).amax()).max((a.lambda - b.lambda).amax());
-                let rel = diff / size(&b);
+                let rel = step_difference(&a, &b);
                 worst = worst.max(rel);
                 assert!(
                     rel <= TOL,

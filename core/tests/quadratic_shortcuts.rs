@@ -6,7 +6,7 @@
 //! U, so the wrapped systems are also what runs the general paths at all.
 
 mod common;
-use common::{preset_start, size};
+use common::{preset_start, worst_step_difference};
 use nhlab_core::methods::{Dd, DdAvf};
 use nhlab_core::{DriverTerms, Matrix, Method, System, SystemInfo, Vector};
 
@@ -67,17 +67,12 @@ fn worst_difference<S: System<N, R>, const N: usize, const R: usize>(
 ) -> f64 {
     let (sys, start, h) = preset_start::<S, N, R>(preset);
     let general = General(sys);
-    let mut st = start;
-    let mut worst: f64 = 0.0;
-    for k in 0..STEPS {
-        let (mut x, mut y) = (st, st);
-        a.step(&general.0, &mut x, h).unwrap_or_else(|e| panic!("step {k}: {e}"));
-        b.step(&general, &mut y, h).unwrap_or_else(|e| panic!("general step {k}: {e}"));
-        let diff = (x.q - y.q).amax().max((x.v - y.v).amax()).max((x.lambda - y.lambda).amax());
-        worst = worst.max(diff / size(&y));
-        st = y;
-    }
-    worst
+    worst_step_difference(
+        start,
+        STEPS,
+        |st| a.step(&general.0, st, h).unwrap_or_else(|e| panic!("{e}")),
+        |st| b.step(&general, st, h).unwrap_or_else(|e| panic!("general: {e}")),
+    )
 }
 
 fn same_steps<S: System<N, R>, const N: usize, const R: usize>() {

@@ -27,6 +27,33 @@ pub fn size<const N: usize, const R: usize>(st: &State<N, R>) -> f64 {
     st.q.amax().max(st.v.amax()).max(st.lambda.amax()).max(1.0)
 }
 
+/// How far one step `a` lands from another `b` taken from the same state: the max norm of
+/// their q, q̇ and λ differences, relative to `b`'s [`size`].
+pub fn step_difference<const N: usize, const R: usize>(a: &State<N, R>, b: &State<N, R>) -> f64 {
+    let diff = (a.q - b.q).amax().max((a.v - b.v).amax()).max((a.lambda - b.lambda).amax());
+    diff / size(b)
+}
+
+/// The largest [`step_difference`] between one step of `a` and one of `b` from each of `steps`
+/// states of `b`'s trajectory from `start`. Steps are compared one at a time from the same
+/// state, not as whole trajectories, whose sensitivity would amplify round-off.
+pub fn worst_step_difference<const N: usize, const R: usize>(
+    start: State<N, R>,
+    steps: usize,
+    mut a: impl FnMut(&mut State<N, R>),
+    mut b: impl FnMut(&mut State<N, R>),
+) -> f64 {
+    let (mut st, mut worst) = (start, 0.0_f64);
+    for _ in 0..steps {
+        let (mut x, mut y) = (st, st);
+        a(&mut x);
+        b(&mut y);
+        worst = worst.max(step_difference(&x, &y));
+        st = y;
+    }
+    worst
+}
+
 /// The system built from preset `index` (params applied) and its start state.
 pub fn preset_start<S: System<N, R>, const N: usize, const R: usize>(
     index: usize,
