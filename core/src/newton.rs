@@ -148,21 +148,6 @@ pub fn solve_pair(
     Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment })
 }
 
-/// One Newton step for the scalar equation `f(x) = 0`, in place: the solution when `f` is
-/// affine (then the step is exact, and a second one would only confirm it).
-#[inline]
-pub fn solve_affine_scalar(
-    x: &mut f64,
-    mut f: impl FnMut(f64) -> (f64, f64),
-) -> Result<(), StepFailure> {
-    let (value, slope) = f(*x);
-    if slope == 0.0 {
-        return Err(StepFailure::Singular);
-    }
-    *x -= value / slope;
-    if x.is_finite() { Ok(()) } else { Err(StepFailure::NonFinite) }
-}
-
 impl NewtonConfig {
     /// The error an iteration whose (max-norm) increment was `increment`, after one of
     /// `previous`, leaves, for Newton's quadratic convergence.

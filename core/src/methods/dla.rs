@@ -12,7 +12,7 @@
 use crate::angle_tracker::AngleTracker;
 use crate::method::{Integrator, MethodInfo};
 use crate::methods::coupled_fast_path;
-use crate::newton::{Linearization, NewtonConfig, solve, solve_affine_scalar};
+use crate::newton::{Linearization, NewtonConfig, solve};
 use crate::system::{ParamSpec, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector, linalg};
 
@@ -131,15 +131,16 @@ impl Dla {
     ) -> Result<(), StepFailure> {
         let a = self.alpha;
         let (z_a, b) = (q_a[N - 1], 1.0 - a);
-        // Driver alone: F(w) = w − ζ̇₀ + αh V_d'(ζ₀) + (1−α)h V_d'(ζ_a + αh w) = 0, affine in w
-        // (V_d quadratic): one Newton step from Euler's guess solves it.
-        let rhs = st.v[N - 1] - a * h * g0[N - 1];
-        let mut w = rhs - b * h * g0[N - 1];
-        solve_affine_scalar(&mut w, |w| {
-            let z = z_a + a * h * w;
-            let (d1, d2) = (sys.driver_potential_d1(z), sys.driver_potential_d2(z));
-            (w - rhs + b * h * d1, 1.0 + a * b * h * h * d2)
-        })?;
+        // Driver alone: w − ζ̇₀ + αh V_d'(ζ₀) + (1−α)h V_d'(ζ_a + αh w) = 0. V_d being quadratic,
+        // V_d'(ζ_a + αh w) = V_d'(ζ_a) + αh w V_d'', so w is one product: the reciprocal of the
+        // slope does not depend on the state, so its division runs beside the chain from one
+        // step's driver to the next instead of on it (what Newton's step from a guess did).
+        let slope = 1.0 + a * b * h * h * sys.driver_potential_d2(z_a);
+        let w = (st.v[N - 1] - a * h * g0[N - 1] - b * h * sys.driver_potential_d1(z_a))
+            * (1.0 / slope);
+        if !w.is_finite() {
+            return Err(if slope == 0.0 { StepFailure::Singular } else { StepFailure::NonFinite });
+        }
         let a1 = sys.constraint(z_a + a * h * w);
         // Passenger, with ∇U(q₁) = ∇U(q_a) + αh K q̇₁ exact for quadratic U:
         // (I + α(1−α)h²K) q̇₁ − h A_aᵀλ = q̇₀ − αh∇V(q₀) − (1−α)h∇U(q_a), A(ζ₁) q̇₁ = 0.
