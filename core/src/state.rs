@@ -25,7 +25,8 @@ pub struct State<const N: usize, const R: usize> {
     pub q_compensation: Vector<N>,
     /// What the last additions to `q̇` lost to rounding.
     pub v_compensation: Vector<N>,
-    /// `∇V` and `A` where the last step ended, if it computed them (first same as last).
+    /// The driver's terms where the last step ended, if it computed them (first same as
+    /// last).
     pub(crate) at_end: AtEnd<N, R>,
     /// The acceleration `q̈(q, q̇)` where the last step ended, if it computed it (RK4).
     pub(crate) acceleration_at_end: AccelerationAtEnd<N>,
@@ -42,27 +43,33 @@ pub(crate) struct AccelerationAtEnd<const N: usize> {
     acceleration: Vector<N>,
 }
 
-/// `∇V(q)`, `A(q)` and `V_d(ζ)` at the configuration a step ended on, so that the next
-/// step, which starts there, does not evaluate them again (leap-frog's force, DLA^α's
-/// `∇V(q₀)`), nor do the integrals at that state (`h`, `|A q̇|`): one sin/cos per step
-/// instead of two or three on the trigonometric systems. Keyed by `q` itself, so a state
-/// moved from outside (a test, a restart) never reuses a stale value.
+/// `A(ζ)`, `V_d(ζ)` and `V_d'(ζ)` at the ζ a step ended on, so that the next step, which
+/// starts there, does not evaluate them again (leap-frog's force, DLA^α's `∇V(q₀)`), nor do
+/// the integrals at that state (`h`, `|A q̇|`): one sin/cos per step instead of two or three on
+/// the trigonometric systems. Keyed by ζ itself, what they depend on, so a state moved from
+/// outside (a test, a restart) never reuses a stale value. ∇U, which depends on the passenger,
+/// is evaluated where needed (it is affine on every test system).
+///
+/// The key is one number, not q: a step writes q as its compensated sum left it, in pieces
+/// the compiler chooses, and copying the whole vector back for a key read it in other pieces,
+/// which the processor cannot forward from the pending stores (a stall of ~20 % of DLA^α's
+/// fast step on `particle`; `docs/benchmarks.md`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct AtEnd<const N: usize, const R: usize> {
-    q: Vector<N>,
-    gradient: Vector<N>,
+    zeta: f64,
     constraint: Matrix<R, N>,
     driver_potential: f64,
+    driver_potential_d1: f64,
 }
 
 impl<const N: usize, const R: usize> AtEnd<N, R> {
     /// Knows nothing (NaN never equals a configuration).
     fn empty() -> Self {
         Self {
-            q: Vector::repeat(f64::NAN),
-            gradient: Vector::zeros(),
+            zeta: f64::NAN,
             constraint: Matrix::zeros(),
             driver_potential: 0.0,
+            driver_potential_d1: 0.0,
         }
     }
 }
@@ -109,24 +116,36 @@ impl<const N: usize, const R: usize> State<N, R> {
         })
     }
 
-    /// `∇V(q)` and `A(q)` at the current `q`: remembered from the step that ended here, or
-    /// evaluated.
+    /// Whether the driver's terms at the current ζ are remembered.
+    #[inline]
+    fn remembered(&self) -> bool {
+        self.at_end.zeta == self.q[N - 1]
+    }
+
+    /// `∇V(q)` and `A(q)` at the current `q`: the driver's terms remembered from the step that
+    /// ended here, or evaluated.
     #[inline]
     pub(crate) fn gradient_and_constraint<S: System<N, R>>(
         &self,
         sys: &S,
     ) -> (Vector<N>, Matrix<R, N>) {
-        if self.at_end.q == self.q {
-            (self.at_end.gradient, self.at_end.constraint)
+        if self.remembered() {
+            (self.gradient(sys), self.at_end.constraint)
         } else {
             (sys.gradient(&self.q), sys.constraint(self.q[N - 1]))
         }
     }
 
-    /// `∇V(q)` at the current `q`, remembered or evaluated.
+    /// `∇V(q)` at the current `q`, with `V_d'` remembered or evaluated.
     #[inline]
     pub(crate) fn gradient<S: System<N, R>>(&self, sys: &S) -> Vector<N> {
-        if self.at_end.q == self.q { self.at_end.gradient } else { sys.gradient(&self.q) }
+        if self.remembered() {
+            let mut g = sys.passenger_gradient(&self.q);
+            g[N - 1] = self.at_end.driver_potential_d1;
+            g
+        } else {
+            sys.gradient(&self.q)
+        }
     }
 
     /// `V_d(ζ)` and `A(ζ)` at the current `q`, remembered or evaluated (together, so that
@@ -136,7 +155,7 @@ impl<const N: usize, const R: usize> State<N, R> {
         &self,
         sys: &S,
     ) -> (f64, Matrix<R, N>) {
-        if self.at_end.q == self.q {
+        if self.remembered() {
             (self.at_end.driver_potential, self.at_end.constraint)
         } else {
             let zeta = self.q[N - 1];
@@ -144,16 +163,17 @@ impl<const N: usize, const R: usize> State<N, R> {
         }
     }
 
-    /// Remembers `∇V`, `A` and `V_d` at the current `q` (call after the step has moved `q`;
-    /// they must be its values there, to round-off).
+    /// Remembers `A`, `V_d` and `V_d'` at the current ζ (call after the step has moved `q`;
+    /// they must be their values there, to round-off).
     #[inline]
     pub(crate) fn remember_at_end(
         &mut self,
-        gradient: Vector<N>,
         constraint: Matrix<R, N>,
         driver_potential: f64,
+        driver_potential_d1: f64,
     ) {
-        self.at_end = AtEnd { q: self.q, gradient, constraint, driver_potential };
+        let zeta = self.q[N - 1];
+        self.at_end = AtEnd { zeta, constraint, driver_potential, driver_potential_d1 };
     }
 
     /// `q̈(q, q̇)` at the current state, if the step that ended here remembered it.
@@ -233,8 +253,8 @@ impl<const N: usize, const R: usize> State<N, R> {
     pub(crate) fn move_to_same_configuration(&mut self, to: Vector<N>, compensation: Vector<N>) {
         let from = self.q;
         (self.q, self.q_compensation) = (to, compensation);
-        if self.at_end.q == from {
-            self.at_end.q = to;
+        if self.at_end.zeta == from[N - 1] {
+            self.at_end.zeta = to[N - 1];
         }
         if self.acceleration_at_end.q == from {
             self.acceleration_at_end.q = to;
@@ -273,7 +293,7 @@ mod tests {
     use crate::methods::{Dla, Dla01, Leapfrog, Rk4};
     use crate::systems::{Cvt, CvtPendulum, MobileRobot, Particle};
 
-    /// Steps with the remembered `∇V`, `A` against steps that evaluate them afresh.
+    /// Steps with the remembered driver terms against steps that evaluate them afresh.
     fn remembered_vs_fresh<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
         sys: &S,
         m: &M,
@@ -286,7 +306,7 @@ mod tests {
         let mut used = 0;
         let mut gap: f64 = 0.0;
         for _ in 0..2000 {
-            used += usize::from(kept.at_end.q == kept.q);
+            used += usize::from(kept.remembered());
             m.step(sys, &mut kept, h).unwrap();
             fresh.at_end = AtEnd::empty();
             fresh.acceleration_at_end = AccelerationAtEnd::empty();
@@ -333,7 +353,7 @@ mod tests {
             // Within a turn again (the driver turns once in about 22 steps here).
             turns += st.take_whole_turns();
             assert!(st.q[2].abs() <= std::f64::consts::PI);
-            assert_eq!(st.at_end.q, st.q, "∇V and A at the end are still known");
+            assert!(st.remembered(), "the driver's terms at the end are still known");
             assert_eq!(st.driver_history.guess(&st.q, &st.v, 0.1).is_some(), k >= 2);
         }
         assert!(turns >= 1.0, "the caches were checked across a turn taken off");
@@ -364,7 +384,13 @@ mod tests {
         without.at_end = AtEnd::empty();
         assert_eq!(without, st, "what a step remembered does not make states differ");
         assert_eq!(st.gradient(&sys), sys.gradient(&st.q));
+        // The passenger moved, ζ not: the driver's terms still hold, ∇U is the new one.
+        st.q[0] += 0.5;
+        assert!(st.remembered());
+        assert_eq!(st.gradient(&sys), sys.gradient(&st.q));
+        assert_eq!(st.gradient_and_constraint(&sys).0, sys.gradient(&st.q));
         st.q[2] += 0.25;
+        assert!(!st.remembered());
         assert_eq!(st.gradient(&sys), sys.gradient(&st.q));
         assert_eq!(st.gradient_and_constraint(&sys).1, sys.constraint(st.q[2]));
         // q̈ depends on q̇ too: a velocity changed from outside forgets it.

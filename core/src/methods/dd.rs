@@ -268,6 +268,6 @@ pub(crate) fn discrete_derivative_step<S: System<N, R>, const N: usize, const R:
     st.driver_history.record((&q0, &v0), h, (&st.q, &st.v));
     // What the next step starts from and the integrals at q₁ need.
     let at_q1 = end.terms(sys, st.q[N - 1]);
-    st.remember_at_end(at_q1.gradient(sys, &st.q), at_q1.constraint, at_q1.potential);
+    st.remember_at_end(at_q1.constraint, at_q1.potential, at_q1.potential_d1);
     Ok(())
 }

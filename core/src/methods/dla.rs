@@ -111,7 +111,7 @@ impl Integrator for Dla {
         // What the next step and the integrals need at q₁, one Newton increment from the
         // tracker's last iterate: a rotation, where evaluating would call `sin_cos`.
         let at_q1 = tracker.terms(sys, st.q[N - 1]);
-        st.remember_at_end(at_q1.gradient(sys, &st.q), at_q1.constraint, at_q1.potential);
+        st.remember_at_end(at_q1.constraint, at_q1.potential, at_q1.potential_d1);
         Ok(())
     }
 }
@@ -164,9 +164,11 @@ impl Dla {
         st.lambda = lambda;
         // What the next step starts from and the integrals need, at ζ₁ as the state holds it.
         let zeta = st.q[N - 1];
-        let mut g1 = sys.passenger_gradient(&st.q);
-        g1[N - 1] = sys.driver_potential_d1(zeta);
-        st.remember_at_end(g1, sys.constraint(zeta), sys.driver_potential(zeta));
+        st.remember_at_end(
+            sys.constraint(zeta),
+            sys.driver_potential(zeta),
+            sys.driver_potential_d1(zeta),
+        );
         Ok(())
     }
 }

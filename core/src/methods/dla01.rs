@@ -79,9 +79,7 @@ impl Integrator for Dla01 {
             st.advance(h * st.v + (0.5 * h) * dv, dv);
             st.lambda = lambda;
             if st.q[N - 1] == z1 {
-                let mut g1 = sys.passenger_gradient(&st.q);
-                g1[N - 1] = d1;
-                st.remember_at_end(g1, a1, v_d1);
+                st.remember_at_end(a1, v_d1, d1);
             }
             return Ok(());
         }
@@ -112,7 +110,7 @@ impl Integrator for Dla01 {
         // What the integrals need at q₁, one Newton increment from the tracker's last iterate:
         // a rotation, where evaluating would call `sin_cos`.
         let at_q1 = tracker.terms(sys, st.q[N - 1]);
-        st.remember_at_end(at_q1.gradient(sys, &st.q), at_q1.constraint, at_q1.potential);
+        st.remember_at_end(at_q1.constraint, at_q1.potential, at_q1.potential_d1);
         Ok(())
     }
 }

@@ -86,7 +86,7 @@ pub(crate) fn step<S: System<N, R>, const N: usize, const R: usize>(
     // ζ₁'s sine and cosine rotated from ζ̄'s by Δζ/2 (`AngleTracker`), for what the next step
     // starts from and the integrals at q₁ need.
     let at_q1 = mid.terms(sys, st.q[z]);
-    st.remember_at_end(at_q1.gradient(sys, &st.q), at_q1.constraint, at_q1.potential);
+    st.remember_at_end(at_q1.constraint, at_q1.potential, at_q1.potential_d1);
     Ok(())
 }
 

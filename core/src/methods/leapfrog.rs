@@ -64,7 +64,7 @@ impl Integrator for Leapfrog {
         }
         st.advance_v_parts(kick, dv_half);
         st.lambda = lambda1;
-        st.remember_at_end(g1, a1, sys.driver_potential(q1[N - 1]));
+        st.remember_at_end(a1, sys.driver_potential(q1[N - 1]), g1[N - 1]);
         Ok(())
     }
 }

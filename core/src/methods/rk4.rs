@@ -63,7 +63,7 @@ impl Integrator for Rk4 {
         let v_d = sys.driver_potential(zeta);
         st.lambda = lambda.ok_or(StepFailure::Singular)?;
         st.remember_acceleration(constraint_force(&a, &st.lambda) - g);
-        st.remember_at_end(g, a, v_d);
+        st.remember_at_end(a, v_d, g[N - 1]);
         Ok(())
     }
 }
