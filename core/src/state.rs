@@ -63,7 +63,7 @@ pub(crate) struct AtEnd<const N: usize, const R: usize> {
 }
 
 impl<const N: usize, const R: usize> AtEnd<N, R> {
-    /// Knows nothing (NaN never equals a configuration).
+    /// Knows nothing (NaN never equals a ζ).
     fn empty() -> Self {
         Self {
             zeta: f64::NAN,
