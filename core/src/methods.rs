@@ -21,9 +21,9 @@ use crate::system::System;
 /// Whether DLA^α's and DLA^{0,1}'s coupled fast paths run on a system. Issue 4 keeps a fast
 /// path only where it is at least 2× faster than the general Newton solve. Where V is
 /// quadratic and ζ is not an angle (`cvt`, `particle`) the driver's update is affine, the
-/// passenger's one linear solve, and neither needs a sine: 2.1–2.3× the general paths on
-/// `cvt`, 2.0–3.1× on `particle` (a steady 10⁷-step loop; criterion's binary has DLA^α there
-/// at 1.5×, a store-forwarding stall of that build). Where ζ is an angle, the sines and
+/// passenger's one linear solve, and neither needs a sine: 2.05–2.56× the general paths in
+/// criterion, 2.2–2.4× in a steady loop, 3.5–3.7× in instructions (2026-11-25,
+/// `docs/benchmarks.md`; `particle`'s DLA^α is the closest). Where ζ is an angle, the sines and
 /// cosines that both paths evaluate held the fast paths to 1.56–2.00× (knife edge,
 /// `cvt_pendulum`, both disks; 2026-11-25, `docs/benchmarks.md`), so those systems take the
 /// general solve.

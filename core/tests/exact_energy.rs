@@ -8,7 +8,7 @@
 //! quadratic and takes the same end, so it is held to the same bound.
 
 mod common;
-use common::preset_start;
+use common::{case, preset_start};
 use nhlab_core::methods::{Dd, DdAvf};
 use nhlab_core::{Method, System};
 
@@ -41,8 +41,7 @@ fn flat<S: System<N, R>, const N: usize, const R: usize>() {
     for exact in [Method::Dd(Dd::default()), Method::DdAvf(DdAvf::default())] {
         let doubles = exact.general_path().expect("DD and DD-AVF have a general path");
         for preset in 0..S::info().presets.len() {
-            let name =
-                format!("{}/{} {}", S::info().id, S::info().presets[preset].id, exact.label());
+            let name = case::<S, N, R>(preset, &exact.label());
             let (e, d) = (
                 energy_error::<S, N, R>(preset, &exact),
                 energy_error::<S, N, R>(preset, &doubles),

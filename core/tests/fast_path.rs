@@ -9,7 +9,7 @@
 //! round-off's, as on their general paths.
 
 mod common;
-use common::{preset_start, size, step_difference};
+use common::{case, preset_start, size, step_difference};
 use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01};
 use nhlab_core::{Method, System};
 
@@ -36,6 +36,7 @@ fn same_steps<S: System<N, R>, const N: usize, const R: usize>() {
     for preset in 0..S::info().presets.len() {
         let (sys, start, h) = preset_start::<S, N, R>(preset);
         for (fast, general) in pairs() {
+            let name = case::<S, N, R>(preset, &fast.label());
             let mut st = start;
             let mut worst: f64 = 0.0;
             for k in 0..STEPS {
@@ -44,13 +45,7 @@ fn same_steps<S: System<N, R>, const N: usize, const R: usize>() {
                 general.step(&sys, &mut b, h).unwrap();
                 let rel = step_difference(&a, &b);
                 worst = worst.max(rel);
-                assert!(
-                    rel <= TOL,
-                    "{}/{}: {} step {k}: fast and general differ by {rel:e}",
-                    S::info().id,
-                    S::info().presets[preset].id,
-                    fast.label()
-                );
+                assert!(rel <= TOL, "{name} step {k}: fast and general differ by {rel:e}");
                 st = b;
             }
             assert!(worst.is_finite());
@@ -133,19 +128,12 @@ fn unbiased<S: System<N, R>, const N: usize, const R: usize>() {
                 continue;
             }
             let (mean, general_mean) = mean_energy_change::<S, N, R>(preset, &fast, &general);
-            println!(
-                "{}/{} {}: mean ΔH per step {mean:+.1e} (general path {general_mean:+.1e})",
-                S::info().id,
-                S::info().presets[preset].id,
-                fast.label()
-            );
+            let name = case::<S, N, R>(preset, &fast.label());
+            println!("{name}: mean ΔH per step {mean:+.1e} (general path {general_mean:+.1e})");
             assert!(
                 mean.abs() <= BIAS_TOL && general_mean.abs() <= BIAS_TOL,
-                "{}/{} {}: the energy changes by {mean:e} per step on average ({general_mean:e} \
-                 on the general path): a bias, which grows linearly over a long run",
-                S::info().id,
-                S::info().presets[preset].id,
-                fast.label()
+                "{name}: the energy changes by {mean:e} per step on average ({general_mean:e} \
+                 on the general path): a bias, which grows linearly over a long run"
             );
         }
     }

@@ -15,7 +15,7 @@
 //! increment below 0.1 stopped DD 5.9·10⁻¹³ from it.
 
 mod common;
-use common::{preset_start, worst_step_difference};
+use common::{case, preset_start, worst_step_difference};
 use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01};
 use nhlab_core::{Method, NewtonConfig, State, System};
 
@@ -53,18 +53,11 @@ fn stops_where_iterating_on_would<S: System<N, R>, const N: usize, const R: usiz
             };
             let worst =
                 worst_step_difference(start, STEPS, |st| step(m, st), |st| step(&reference, st));
-            println!(
-                "{}/{} {}: worst {worst:.1e}",
-                S::info().id,
-                S::info().presets[preset].id,
-                m.label()
-            );
+            let name = case::<S, N, R>(preset, &m.label());
+            println!("{name}: worst {worst:.1e}");
             assert!(
                 worst <= TOL,
-                "{}/{} {}: the default rule stopped {worst:e} from the converged step",
-                S::info().id,
-                S::info().presets[preset].id,
-                m.label()
+                "{name}: the default rule stopped {worst:e} from the converged step"
             );
         }
     }

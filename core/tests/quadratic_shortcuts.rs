@@ -6,7 +6,7 @@
 //! U, so the wrapped systems are also what runs the general paths at all.
 
 mod common;
-use common::{preset_start, worst_step_difference};
+use common::{case, preset_start, worst_step_difference};
 use nhlab_core::methods::{Dd, DdAvf};
 use nhlab_core::{DriverTerms, Matrix, Method, System, SystemInfo, Vector};
 
@@ -79,13 +79,8 @@ fn same_steps<S: System<N, R>, const N: usize, const R: usize>() {
     for preset in 0..S::info().presets.len() {
         for m in [Method::Dd(Dd::default()), Method::DdAvf(DdAvf::default())] {
             let worst = worst_difference::<S, N, R>(preset, (m, m));
-            assert!(
-                worst <= TOL,
-                "{}/{}: {}'s shortcut and general path differ by {worst:e}",
-                S::info().id,
-                S::info().presets[preset].id,
-                m.label()
-            );
+            let name = case::<S, N, R>(preset, &m.label());
+            assert!(worst <= TOL, "{name}: the shortcut and the general path differ by {worst:e}");
         }
     }
 }

@@ -56,7 +56,7 @@ impl Integrator for Rk4 {
             h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
         );
         // The multiplier at q₁ (the state carries it), and with it q̈ for the next step and
-        // ∇V, A, V_d for the integrals there: one evaluation, one sin/cos.
+        // A, V_d, V_d' for the integrals there: one evaluation, one sin/cos.
         let (q1, v1, zeta) = (st.q, st.v, st.q[N - 1]);
         let (g, a) = (sys.gradient(&q1), sys.constraint(zeta));
         let lambda = sys.continuous_multiplier_with(&q1, &v1, &g, &a);

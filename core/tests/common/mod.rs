@@ -27,6 +27,14 @@ pub fn size<const N: usize, const R: usize>(st: &State<N, R>) -> f64 {
     st.q.amax().max(st.v.amax()).max(st.lambda.amax()).max(1.0)
 }
 
+/// `system/preset method`: the case a test's line or failure is about.
+pub fn case<S: System<N, R>, const N: usize, const R: usize>(
+    preset: usize,
+    method: &str,
+) -> String {
+    format!("{}/{} {method}", S::info().id, S::info().presets[preset].id)
+}
+
 /// How far one step `a` lands from another `b` taken from the same state: the max norm of
 /// their q, q̇ and λ differences, relative to `b`'s [`size`].
 pub fn step_difference<const N: usize, const R: usize>(a: &State<N, R>, b: &State<N, R>) -> f64 {
