@@ -18,16 +18,21 @@
 //! energy error on the knife edge grow linearly at h = 0.31 (10× more after 10⁸ steps).
 //! Where the driver does not accelerate (the knife edge) the guess is Euler's exactly.
 //!
-//! Keyed, like the state's other caches, by the `(q, q̇)` and the h of the step that ended
-//! here: a state moved from outside, a reversed velocity or a new step size starts over.
+//! Keyed by the driver's `(ζ, ζ̇)` and the h of the step that ended there: a driver moved from
+//! outside, a reversed velocity or a new step size starts over. A passenger moved from outside
+//! keeps the guess, which is one for the driver's speed and still as good (Newton converges
+//! from it to the same step, or falls back to Euler's). The key is two numbers, not `(q, q̇)`:
+//! copying the vectors the step had just stored, in the pieces its compensated sums left,
+//! stalled the next step on a store-to-load forwarding (as `State::at_end`'s key did; DD on
+//! `cvt_pendulum` and the mobile robot 3–6 % slower, `docs/benchmarks.md`).
 
 use crate::Vector;
 
-/// The driver's last three speed increments (newest first), if they ended at `(q, q̇)`.
+/// The driver's last three speed increments (newest first), if they ended at `(ζ, ζ̇)`.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct DriverHistory<const N: usize> {
-    q: Vector<N>,
-    v: Vector<N>,
+    zeta: f64,
+    zeta_dot: f64,
     h: f64,
     increments: [f64; 3],
     len: usize,
@@ -36,19 +41,13 @@ pub(crate) struct DriverHistory<const N: usize> {
 impl<const N: usize> DriverHistory<N> {
     /// Knows nothing (NaN never equals a configuration).
     pub(crate) fn empty() -> Self {
-        Self {
-            q: Vector::repeat(f64::NAN),
-            v: Vector::repeat(f64::NAN),
-            h: f64::NAN,
-            increments: [0.0; 3],
-            len: 0,
-        }
+        Self { zeta: f64::NAN, zeta_dot: f64::NAN, h: f64::NAN, increments: [0.0; 3], len: 0 }
     }
 
-    /// Whether the recorded steps, of size `h`, ended at `(q, q̇)`.
+    /// Whether the recorded steps, of size `h`, ended at the driver's `(ζ, ζ̇)` of `(q, q̇)`.
     #[inline]
     fn ends_at(&self, q: &Vector<N>, v: &Vector<N>, h: f64) -> bool {
-        self.h == h && self.q == *q && self.v == *v
+        self.h == h && self.zeta == q[N - 1] && self.zeta_dot == v[N - 1]
     }
 
     /// The extrapolated driver speed `ζ̇₁` after a step of size `h` from `(q, q̇)`, when the
@@ -65,8 +64,8 @@ impl<const N: usize> DriverHistory<N> {
     /// (whole turns of an angle taken off, `State::take_whole_turns`).
     #[inline]
     pub(crate) fn moved(&mut self, from: &Vector<N>, to: &Vector<N>) {
-        if self.q == *from {
-            self.q = *to;
+        if self.zeta == from[N - 1] {
+            self.zeta = to[N - 1];
         }
     }
 
@@ -80,7 +79,8 @@ impl<const N: usize> DriverHistory<N> {
     ) {
         let len = if self.ends_at(q0, v0, h) { self.len.min(2) + 1 } else { 1 };
         let [d1, d2, _] = self.increments;
-        *self = Self { q: *q1, v: *v1, h, increments: [v1[N - 1] - v0[N - 1], d1, d2], len };
+        let (zeta, zeta_dot) = (q1[N - 1], v1[N - 1]);
+        *self = Self { zeta, zeta_dot, h, increments: [zeta_dot - v0[N - 1], d1, d2], len };
     }
 }
 
@@ -93,7 +93,7 @@ mod tests {
     use crate::{NewtonConfig, State, System};
 
     #[test]
-    fn extrapolates_a_cubic_exactly_and_forgets_a_moved_state() {
+    fn extrapolates_a_cubic_exactly_and_forgets_a_moved_driver() {
         // ζ̇(t) = t³ sampled at t = k: increments of a cubic, so the guess is exact.
         let v = |k: f64| Vector::<2>::new(0.5, k * k * k);
         let q = |k: f64| Vector::<2>::new(0.0, k);
@@ -106,6 +106,9 @@ mod tests {
         assert_eq!(history.guess(&q(3.0), &v(3.0), 1.0), Some(64.0));
         assert!(history.guess(&q(3.0), &(-v(3.0)), 1.0).is_none(), "a reversed velocity");
         assert!(history.guess(&q(3.0), &v(3.0), 0.5).is_none(), "another step size");
+        // The guess is the driver's: a passenger moved from outside keeps it.
+        let (q_moved, v_moved) = (Vector::<2>::new(7.0, 3.0), Vector::<2>::new(-2.0, 27.0));
+        assert_eq!(history.guess(&q_moved, &v_moved, 1.0), Some(64.0));
         // A step from elsewhere starts the count again.
         history.record((&q(9.0), &v(9.0)), 1.0, (&q(10.0), &v(10.0)));
         assert!(history.guess(&q(10.0), &v(10.0), 1.0).is_none());
