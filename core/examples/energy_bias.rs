@@ -6,7 +6,7 @@
 //! step) is a bias: over 10⁸ steps it grows linearly, where unbiased rounding grows like √N.
 //! The mean difference of the two steps' `q̇·δq̇` and `∇V·δq`, component by component (same
 //! scale), says where it sits: driver or passenger, velocity or position. This found the two
-//! biases of DD's `(σ, ε)` experiment (`docs/benchmarks.md`).
+//! biases of DD's `(σ, ε)` experiment (`docs/benchmarks-history.md`).
 //! `cargo run --release -p nhlab-core --example energy_bias` (`STEPS`, default 10⁵ per preset).
 
 use nhlab_core::{Method, Scene, SceneRequest, State, System, Vector};

@@ -53,7 +53,7 @@ pub(crate) struct AccelerationAtEnd<const N: usize> {
 /// The key is one number, not q: a step writes q as its compensated sum left it, in pieces
 /// the compiler chooses, and copying the whole vector back for a key read it in other pieces,
 /// which the processor cannot forward from the pending stores (a stall of ~20 % of DLA^α's
-/// fast step on `particle`; `docs/benchmarks.md`).
+/// fast step on `particle`; `docs/benchmarks-history.md`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct AtEnd<const N: usize, const R: usize> {
     zeta: f64,

@@ -37,9 +37,10 @@ use crate::{Matrix, State, StepFailure, Vector, linalg};
 /// Whether DD takes the reduced solve on a system: U quadratic, two constraints whose
 /// passenger kernel [`passenger_kernel`] covers, and V_d not quadratic (where V is quadratic
 /// DD's step has a closed form, [`exact_energy`](super::exact_energy)). On `cvt_pendulum`
-/// (one constraint) both solves take two iterations and the reduced one measured 6 % slower
-/// (204 against 192 ns/step; 168–172 against 160–161 through the run loop on 2026-11-23); on
-/// the mobile robot, 1.46× faster (182 against 266).
+/// (one constraint) both solves take two iterations and the reduced one is the slower (164
+/// against 146 ns/step, `step_loop` on 2026-11-25; 6 % on 2026-11-23); on the mobile robot it
+/// is 1.51× faster (144 against 218 in criterion, 2026-11-25): under issue 4's 2× for a fast
+/// path, and kept because it takes DD there under issue 2's 150 ns (`docs/benchmarks.md`).
 pub(crate) const fn applies<S: System<N, R>, const N: usize, const R: usize>() -> bool {
     S::QUADRATIC_PASSENGER && !S::QUADRATIC_DRIVER && R == 2 && passenger_kernel::covers::<N, R>()
 }

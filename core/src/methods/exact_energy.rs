@@ -7,7 +7,7 @@
 //! summation of q alone does not remove that: the rounding is made inside the step. Where
 //! the rounded numbers repeat, it adds up linearly instead of like √N. The paper's knife edge
 //! at h = π/10 is such a case: the discrete orbit has a period of 20 steps, and DD's energy
-//! error grew to 2.5·10⁻¹¹ in 10⁸ steps (`docs/benchmarks.md`).
+//! error grew to 2.5·10⁻¹¹ in 10⁸ steps (`docs/benchmarks-history.md`).
 //!
 //! Where V is quadratic (the knife edge, `cvt`, `particle`, the rolling disk) Gonzalez's
 //! correction vanishes but for rounding, and DD's discrete gradient is `∇V(q̄)`. On a coupled
