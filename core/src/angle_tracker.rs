@@ -10,7 +10,8 @@
 //! tracker lives for one step, so nothing accumulates from step to step.
 //!
 //! A larger jump, up to ¼ (from ζ̄ to ζ₁ in a step), is rotated too, with longer polynomials
-//! (within 2ε of `sincos` too; measured 1ε).
+//! (within 2ε of `sincos` too; measured 1ε); the last Newton increment, below 10⁻⁹ (from the
+//! final iterate to the solution), to first order, which is exact there.
 //!
 //! Where it does evaluate, it takes the `libm` crate's `sincos` (musl's, within an ulp, in
 //! Rust) rather than the system's: inlined into the step, without glibc's call and its
@@ -30,6 +31,15 @@ const ROTATE_MAX: f64 = 1e-3;
 /// Largest change of ζ taken by rotation with longer polynomials (see `sin_cos`); beyond it
 /// ζ is evaluated.
 const ROTATE_FAR_MAX: f64 = 0.25;
+/// Largest change of ζ taken by a first-order rotation: the first neglected terms, `d²/2`
+/// times sin or cos, are below 5·10⁻¹⁹, a fortieth of an ulp of 1. Such changes are the last
+/// Newton increment, between the final iterate and the solution (the driver's terms at the
+/// solution, those at the step's end), and those terms start the next step's chain: the
+/// shorter rotation took DD's step on the mobile robot from 146 to 139 ns and DLA^α's on
+/// `cvt_pendulum` from 93 to 87 (`docs/benchmarks.md`). A tier between this and
+/// [`ROTATE_MAX`] (second order, up to 3·10⁻⁶) was slower on the mobile robot: Newton's
+/// second increments straddle it, and its branch mispredicts.
+const ROTATE_LINEAR_MAX: f64 = 1e-9;
 
 /// The last ζ evaluated, with its sine and cosine.
 #[derive(Debug, Clone, Copy)]
@@ -54,7 +64,9 @@ impl AngleTracker {
         // within 2·10⁻³ of 0, where the error is below ulp(10⁻³) anyway. NaN (no last ζ)
         // fails the test.
         let d = zeta - self.zeta;
-        let (s, c) = if d.abs() <= ROTATE_MAX {
+        let (s, c) = if d.abs() <= ROTATE_LINEAR_MAX {
+            (self.sin + self.cos * d, self.cos - self.sin * d)
+        } else if d.abs() <= ROTATE_MAX {
             let d2 = d * d;
             let sin_d = d - d * d2 * (1.0 / 6.0);
             let cos_d_m1 = d2 * (d2 * (1.0 / 24.0) - 0.5);
@@ -125,7 +137,7 @@ mod tests {
             let z0 = (k as f64 * 0.7317).sin() * 10f64.powi(k % 5 - 1) + (k % 7) as f64 * 1000.0;
             let mut t = AngleTracker::new();
             let mut z = z0;
-            for inc in [0.3, 9e-4, -3e-6, 1e-9, -4e-13, 0.0] {
+            for inc in [0.3, 9e-4, -3e-6, 1e-9, 9.9e-10, -4e-13, 0.0] {
                 z += inc;
                 let (s, c) = t.sin_cos(z);
                 let (s0, c0) = sin_cos(z);
