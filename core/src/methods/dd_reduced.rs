@@ -37,10 +37,11 @@ use crate::{Matrix, State, StepFailure, Vector, linalg};
 /// Whether DD takes the reduced solve on a system: U quadratic, two constraints whose
 /// passenger kernel [`passenger_kernel`] covers, and V_d not quadratic (where V is quadratic
 /// DD's step has a closed form, [`exact_energy`](super::exact_energy)). On `cvt_pendulum`
-/// (one constraint) both solves take two iterations and the reduced one is the slower (164
-/// against 146 ns/step, `step_loop` on 2026-11-25; 6 % on 2026-11-23); on the mobile robot it
-/// is 1.51× faster (144 against 218 in criterion, 2026-11-25): under issue 4's 2× for a fast
-/// path, and kept because it takes DD there under issue 2's 150 ns (`docs/benchmarks.md`).
+/// (one constraint) both solves take two iterations and measure the same (134 against 135
+/// ns/step, `step_loop` on 2026-11-25; the reduced one 6 % slower on 2026-11-23); on the
+/// mobile robot the reduced solve is 1.57× faster (135 against 212 in criterion, 2026-11-25):
+/// under issue 4's 2× for a fast path, and kept because it takes DD there under issue 2's
+/// 150 ns (`docs/benchmarks.md`).
 pub(crate) const fn applies<S: System<N, R>, const N: usize, const R: usize>() -> bool {
     S::QUADRATIC_PASSENGER && !S::QUADRATIC_DRIVER && R == 2 && passenger_kernel::covers::<N, R>()
 }
