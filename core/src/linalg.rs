@@ -104,6 +104,29 @@ pub(crate) fn inverse<const N: usize>(a: &Matrix<N, N>) -> Option<Matrix<N, N>> 
 /// At 3×3 the shortcut costs more instructions than the closed form but is a shorter chain
 /// (independent divisions instead of determinant, reciprocal, products), which is what a
 /// Newton iteration waits on: DD −17 % on the knife edge (criterion A/B).
+/// `(adj A, det A)` of a 3×3 matrix (`None` for other sizes), so that `A⁻¹ = adj A / det A`
+/// can be applied without waiting on the reciprocal: the saddle solve of Newton's iteration
+/// (`newton::saddle_increment`) multiplies by adj A while det A's reciprocal is computed, and
+/// its Schur equation needs no reciprocal of det A at all.
+#[inline]
+pub(crate) fn adjugate3<const N: usize>(a: &Matrix<N, N>) -> Option<(Matrix<N, N>, f64)> {
+    if N != 3 {
+        return None;
+    }
+    // adj A (i, j) is the cofactor (j, i): the 2×2 determinant of the rows and columns left
+    // when row j and column i are taken out, signed.
+    let minor = |(r0, r1): (usize, usize), (c0, c1): (usize, usize)| {
+        a[(r0, c0)] * a[(r1, c1)] - a[(r0, c1)] * a[(r1, c0)]
+    };
+    let others = [(1, 2), (0, 2), (0, 1)];
+    let adj = Matrix::<N, N>::from_fn(|i, j| {
+        let m = minor(others[j], others[i]);
+        if (i + j) % 2 == 0 { m } else { -m }
+    });
+    let det = a[(0, 0)] * adj[(0, 0)] + a[(0, 1)] * adj[(1, 0)] + a[(0, 2)] * adj[(2, 0)];
+    Some((adj, det))
+}
+
 #[inline(always)] // else left out of line on the 4×4 paths, a call per solve
 pub(crate) fn inverse_maybe_bordered<const N: usize>(a: &Matrix<N, N>) -> Option<Matrix<N, N>> {
     let bordered = (0..N - 1).all(|j| (0..N).all(|i| i == j || a[(i, j)] == 0.0));
@@ -130,6 +153,15 @@ pub(crate) fn solve<const N: usize, const K: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_adjugate_over_the_determinant_is_the_inverse() {
+        let a = Matrix::<3, 3>::new(0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 1.0);
+        let (adj, det) = adjugate3(&a).expect("3×3");
+        assert_eq!(det, -5.0);
+        assert!((adj * a - Matrix::<3, 3>::identity() * det).amax() < 1e-14, "{adj}");
+        assert!(adjugate3(&Matrix::<2, 2>::identity()).is_none());
+    }
 
     #[test]
     fn solves_a_pivoting_system() {

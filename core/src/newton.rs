@@ -68,16 +68,7 @@ pub fn solve<const N: usize, const R: usize>(
     let mut increment = f64::INFINITY;
     for it in 1..=cfg.max_iter {
         let l = linearize(v, lambda);
-        let b_inv = if l.b_maybe_bordered {
-            linalg::inverse_maybe_bordered(&l.b)
-        } else {
-            linalg::inverse(&l.b)
-        }
-        .ok_or(StepFailure::Singular)?;
-        let (b_f1, b_g) = (b_inv * l.f1, b_inv * l.g);
-        let d_lambda =
-            linalg::solve(&(l.c * b_g), &(l.f2 - l.c * b_f1)).ok_or(StepFailure::Singular)?;
-        let d_v = -(b_f1 + b_g * d_lambda);
+        let (d_v, d_lambda) = saddle_increment(&l)?;
         *v += d_v;
         *lambda += d_lambda;
         increment = d_v.amax().max(d_lambda.amax());
@@ -107,6 +98,42 @@ pub fn solve<const N: usize, const R: usize>(
         (previous, previous_driver) = (increment, driver);
     }
     Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment })
+}
+
+/// Newton's increment `(δq̇₁, δλ)` from one linearization: `B δq̇₁ + G δλ = −f1`,
+/// `C δq̇₁ = −f2`, through the Schur complement `C B⁻¹ G`.
+///
+/// Where B is dense and 3×3 (DD's Jacobian on `cvt_pendulum`, where Gonzalez's correction fills
+/// it), through `B⁻¹ = adj B / det B` with det B cancelled from the Schur equation,
+/// `(C adj B G) δλ = det B f2 − C adj B f1`: the iteration then waits on one division (the
+/// Schur solve's) where the inverse put the reciprocal of det B before it as well (DD on
+/// `cvt_pendulum` 135 → 128 ns/step, `docs/benchmarks.md`). Elsewhere B is inverted: by N
+/// divisions where it is diagonal but for its last column, in closed form or by LU otherwise.
+#[inline(always)]
+fn saddle_increment<const N: usize, const R: usize>(
+    l: &Linearization<N, R>,
+) -> Result<(Vector<N>, Vector<R>), StepFailure> {
+    if !l.b_maybe_bordered
+        && let Some((adj, det)) = linalg::adjugate3(&l.b)
+    {
+        if det == 0.0 || !det.is_finite() {
+            return Err(StepFailure::Singular);
+        }
+        let (adj_f1, adj_g) = (adj * l.f1, adj * l.g);
+        let d_lambda = linalg::solve(&(l.c * adj_g), &(l.f2 * det - l.c * adj_f1))
+            .ok_or(StepFailure::Singular)?;
+        return Ok((-(adj_f1 + adj_g * d_lambda) * (1.0 / det), d_lambda));
+    }
+    let b_inv = if l.b_maybe_bordered {
+        linalg::inverse_maybe_bordered(&l.b)
+    } else {
+        linalg::inverse(&l.b)
+    }
+    .ok_or(StepFailure::Singular)?;
+    let (b_f1, b_g) = (b_inv * l.f1, b_inv * l.g);
+    let d_lambda =
+        linalg::solve(&(l.c * b_g), &(l.f2 - l.c * b_f1)).ok_or(StepFailure::Singular)?;
+    Ok((-(b_f1 + b_g * d_lambda), d_lambda))
 }
 
 /// Solves the two equations `f(x) = 0` from `x`, in place; `f` returns the values and the
