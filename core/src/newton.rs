@@ -107,8 +107,10 @@ pub fn solve<const N: usize, const R: usize>(
 /// it), through `B⁻¹ = adj B / det B` with det B cancelled from the Schur equation,
 /// `(C adj B G) δλ = det B f2 − C adj B f1`: the iteration then waits on one division (the
 /// Schur solve's) where the inverse put the reciprocal of det B before it as well (DD on
-/// `cvt_pendulum` 135 → 128 ns/step, `docs/benchmarks.md`). Elsewhere B is inverted: by N
-/// divisions where it is diagonal but for its last column, in closed form or by LU otherwise.
+/// `cvt_pendulum` 137 → 122 ns/step in criterion, `docs/benchmarks.md`; the same change
+/// measured within ±2 % on 2026-11-22, when other links of the chain were longer).
+/// Elsewhere B is inverted: by N divisions where it is diagonal but for its last column, in
+/// closed form or by LU otherwise.
 #[inline(always)]
 fn saddle_increment<const N: usize, const R: usize>(
     l: &Linearization<N, R>,
