@@ -16,10 +16,10 @@
 //! Where it does evaluate, it takes the `libm` crate's `sincos` (musl's, within an ulp, in
 //! Rust) rather than the system's: inlined into the step, without glibc's call and its
 //! rounding-mode save and restore, it overlaps with the rest of the step (5–11 ns/step less
-//! for DD, DD-AVF and DLA^α on the angle-driven systems; `docs/benchmarks-history.md`). The systems'
-//! own functions keep the standard library's: a step that calls several of them at one ζ
-//! shares one call to that, which the compiler cannot do for an inlined `sincos` (with the
-//! crate's there too, leap-frog, RK4 and DLA^{0,1} took up to 40 % longer).
+//! for DD, DD-AVF and DLA^α on the angle-driven systems; `docs/benchmarks-history.md`). The
+//! systems' own functions keep the standard library's: a step that calls several of them at
+//! one ζ shares one call to that, which the compiler cannot do for an inlined `sincos` (with
+//! the crate's there too, leap-frog, RK4 and DLA^{0,1} took up to 40 % longer).
 
 use crate::system::{DriverTerms, System};
 

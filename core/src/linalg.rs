@@ -96,14 +96,6 @@ pub(crate) fn inverse<const N: usize>(a: &Matrix<N, N>) -> Option<Matrix<N, N>> 
     m.iter().all(|v| v.is_finite()).then_some(m)
 }
 
-/// `A⁻¹`, with a shortcut for `A` diagonal but for its last column, whose inverse has the
-/// same shape: N divisions, where a 4×4 closed form costs hundreds of flops. Newton's matrix
-/// `I + h ∂(∇̄V − A(q̄)ᵀλ)/∂q̇₁` has that shape wherever the discrete gradient's Jacobian is
-/// diagonal (as on every test system, unless DD's Gonzalez correction is not round-off),
-/// since q̇₁ moves A(q̄) through ζ̄ alone; so does DLA's `I + c∇²V` (with a zero last column).
-/// At 3×3 the shortcut costs more instructions than the closed form but is a shorter chain
-/// (independent divisions instead of determinant, reciprocal, products), which is what a
-/// Newton iteration waits on: DD −17 % on the knife edge (criterion A/B).
 /// `(adj A, det A)` of a 3×3 matrix (`None` for other sizes), so that `A⁻¹ = adj A / det A`
 /// can be applied without waiting on the reciprocal: the saddle solve of Newton's iteration
 /// (`newton::saddle_increment`) multiplies by adj A while det A's reciprocal is computed, and
@@ -127,6 +119,14 @@ pub(crate) fn adjugate3<const N: usize>(a: &Matrix<N, N>) -> Option<(Matrix<N, N
     Some((adj, det))
 }
 
+/// `A⁻¹`, with a shortcut for `A` diagonal but for its last column, whose inverse has the
+/// same shape: N divisions, where a 4×4 closed form costs hundreds of flops. Newton's matrix
+/// `I + h ∂(∇̄V − A(q̄)ᵀλ)/∂q̇₁` has that shape wherever the discrete gradient's Jacobian is
+/// diagonal (as on every test system, unless DD's Gonzalez correction is not round-off),
+/// since q̇₁ moves A(q̄) through ζ̄ alone; so does DLA's `I + c∇²V` (with a zero last column).
+/// At 3×3 the shortcut costs more instructions than the closed form but is a shorter chain
+/// (independent divisions instead of determinant, reciprocal, products), which is what a
+/// Newton iteration waits on: DD −17 % on the knife edge (criterion A/B).
 #[inline(always)] // else left out of line on the 4×4 paths, a call per solve
 pub(crate) fn inverse_maybe_bordered<const N: usize>(a: &Matrix<N, N>) -> Option<Matrix<N, N>> {
     let bordered = (0..N - 1).all(|j| (0..N).all(|i| i == j || a[(i, j)] == 0.0));

@@ -141,8 +141,8 @@ fn unbiased<S: System<N, R>, const N: usize, const R: usize>() {
 
 /// A fast path can take the general path's steps to 10⁻¹³ each and still bias DD's or
 /// DD-AVF's energy by a rounding whose sign does not average out: 5·10⁻¹⁷ of H per step in
-/// DD's `(σ, ε)` experiment (`docs/benchmarks-history.md`), a linear drift of 5·10⁻⁹ over 10⁸ steps,
-/// which the test above cannot see. Measured on every path as it is: ≤ 3.2·10⁻¹⁸.
+/// DD's `(σ, ε)` experiment (`docs/benchmarks-history.md`), a linear drift of 5·10⁻⁹ over 10⁸
+/// steps, which the test above cannot see. Measured on every path as it is: ≤ 3.2·10⁻¹⁸.
 #[test]
 fn energy_conserving_fast_paths_do_not_bias_the_energy() {
     for_each_system!(unbiased);

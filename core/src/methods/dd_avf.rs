@@ -14,8 +14,8 @@
 //! closed form, ended in double-double ([`exact_energy`](super::exact_energy)): H stays at
 //! round-off however long the run. Elsewhere it solves `(q̇₁, λ)` by Newton (`dd`'s
 //! `discrete_derivative_step`). A coupled split (the driver's row alone, then the passenger
-//! by one division) measured 1.0–1.8× the general solve (`docs/benchmarks-history.md`, 2026-11-25),
-//! short of the 2× issue 4 asks of a fast path, and was removed.
+//! by one division) measured 1.0–1.8× the general solve (`docs/benchmarks-history.md`,
+//! 2026-11-25), short of the 2× issue 4 asks of a fast path, and was removed.
 
 use super::dd::discrete_derivative_step;
 use super::exact_energy;
