@@ -157,12 +157,12 @@ pub fn solve_pair(
         if det == 0.0 {
             return Err(StepFailure::Singular);
         }
-        // Cramer's rule: the reciprocal of the determinant is computed beside the numerators.
+        // Cramer's rule, both numerators divided by the determinant at once.
         let numerators = Vector::<2>::new(
             j[(0, 1)] * value[1] - j[(1, 1)] * value[0],
             j[(1, 0)] * value[0] - j[(0, 0)] * value[1],
         );
-        let dx = numerators * (1.0 / det);
+        let dx = numerators / det;
         *x += dx;
         increment = dx.amax();
         if !increment.is_finite() {
