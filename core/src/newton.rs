@@ -157,7 +157,9 @@ pub fn solve_pair(
         if det == 0.0 {
             return Err(StepFailure::Singular);
         }
-        // Cramer's rule, both numerators divided by the determinant at once.
+        // Cramer's rule, both numerators divided by the determinant at once: DD's Jacobian
+        // waits on the residual, so det is ready no earlier than the numerators, and its
+        // reciprocal times them was one link more (`docs/benchmarks.md`).
         let numerators = Vector::<2>::new(
             j[(0, 1)] * value[1] - j[(1, 1)] * value[0],
             j[(1, 0)] * value[0] - j[(0, 0)] * value[1],

@@ -40,7 +40,7 @@ use crate::{Matrix, State, StepFailure, Vector, linalg};
 /// (one constraint) both solves take two iterations and the general one, whose 3×3 saddle
 /// solve goes through the adjugate (`newton`), is the faster (the two measured the same before
 /// it, 134 against 135 ns/step in `step_loop` on 2026-11-25); on the mobile robot the reduced
-/// solve is 1.58× faster (135 against 212 in criterion, 2026-11-25): under issue 4's 2× for a
+/// solve is 1.60× faster (132 against 211 in criterion, 2026-11-25): under issue 4's 2× for a
 /// fast path, and kept because it takes DD there under issue 2's 150 ns
 /// (`docs/benchmarks.md`).
 pub(crate) const fn applies<S: System<N, R>, const N: usize, const R: usize>() -> bool {
