@@ -2,7 +2,25 @@
 //! offending field, so the API can point at it), [`StepFailure`] for one step that could
 //! not be taken, and [`RunError`] for a run that ended early, naming the step and time.
 
+use std::fmt;
+
 use thiserror::Error;
+
+/// A number as an error message echoes it: Rust's `{}` writes `1e300` with 300 digits and
+/// `1e-300` with 300 zeros, so magnitudes outside `[1e-4, 1e15)` are written as `1e300`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Short(pub f64);
+
+impl fmt::Display for Short {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let x = self.0;
+        if x != 0.0 && x.is_finite() && !(1e-4..1e15).contains(&x.abs()) {
+            write!(f, "{x:e}")
+        } else {
+            write!(f, "{x}")
+        }
+    }
+}
 
 /// Something wrong with what a user asked for. [`InputError::field`] names the field.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -28,7 +46,7 @@ pub enum InputError {
         valid: String,
     },
     /// A parameter lies outside its range.
-    #[error("{name} = {value} is out of range; allowed: {range}")]
+    #[error("{name} = {} is out of range; allowed: {range}", Short(*.value))]
     ParamOutOfRange {
         /// Field path, e.g. `params.epsilon` or `alpha`.
         field: String,
@@ -90,13 +108,13 @@ pub enum InputError {
         residual: f64,
     },
     /// The step is zero or negative.
-    #[error("step must be positive, got {step}")]
+    #[error("step must be positive, got {}", Short(*.step))]
     NonPositiveStep {
         /// The step given.
         step: f64,
     },
     /// t_end is shorter than one step.
-    #[error("t_end = {t_end} must be at least one step ({step})")]
+    #[error("t_end = {} must be at least one step ({})", Short(*.t_end), Short(*.step))]
     TEndTooShort {
         /// The t_end given.
         t_end: f64,
@@ -218,4 +236,28 @@ pub enum RunError {
         /// Time reached.
         t: f64,
     },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Short;
+
+    #[test]
+    fn short_numbers_stay_plain_and_extreme_ones_take_an_exponent() {
+        let cases = [
+            (0.1, "0.1"),
+            (-7.0, "-7"),
+            (0.0, "0"),
+            (1e14, "100000000000000"),
+            (1e15, "1e15"),
+            (1e-4, "0.0001"),
+            (-1e-300, "-1e-300"),
+            (1e308, "1e308"),
+            (f64::NAN, "NaN"),
+            (f64::INFINITY, "inf"),
+        ];
+        for (x, written) in cases {
+            assert_eq!(Short(x).to_string(), written);
+        }
+    }
 }

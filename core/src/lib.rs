@@ -36,7 +36,7 @@ pub mod work_precision;
 
 pub use bucket::{Bucket, Bucketer};
 pub use classify::{Verdict, VerdictKind, classify};
-pub use error::{InputError, RunError, StepFailure};
+pub use error::{InputError, RunError, Short, StepFailure};
 pub use integral::Integral;
 pub use method::{Integrator, MethodInfo};
 pub use newton::NewtonConfig;

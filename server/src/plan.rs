@@ -2,7 +2,7 @@
 //! ready to run. Every error names the field at fault.
 
 use crate::{AppError, AppState, Config, MethodRequest, SceneView, SimulateRequest};
-use nhlab_core::{InputError, Method, MethodSpec, PreparedScene, Scene};
+use nhlab_core::{InputError, Method, MethodSpec, PreparedScene, Scene, Short};
 use std::sync::Arc;
 
 /// How the result goes back: the limits differ.
@@ -90,22 +90,17 @@ fn check_steps(scene: &Scene, config: &Config, delivery: Delivery) -> Result<(),
             format!(
                 "t_end / step = {} / {} = {} steps per run exceeds the limit of {limit} \
                  steps for {how}; shorten t_end or lengthen step",
-                short(scene.t_end),
-                short(scene.step),
+                Short(scene.t_end),
+                Short(scene.step),
                 if steps < 1_000_000_000_000_000 {
                     steps.to_string()
                 } else {
-                    short(scene.t_end / scene.step)
+                    Short(scene.t_end / scene.step).to_string()
                 },
             ),
         ));
     }
     Ok(())
-}
-
-/// A number for a message: plain unless huge or tiny (1e300 has 301 digits).
-fn short(x: f64) -> String {
-    if x != 0.0 && !(1e-4..1e15).contains(&x.abs()) { format!("{x:e}") } else { format!("{x}") }
 }
 
 fn methods(given: Option<&[MethodRequest]>, config: &Config) -> Result<Vec<Method>, AppError> {

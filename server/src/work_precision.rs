@@ -22,7 +22,7 @@ use axum::extract::State;
 use axum::extract::rejection::BytesRejection;
 use nhlab_core::reference::TOL;
 use nhlab_core::work_precision::{measure_until, reference};
-use nhlab_core::{Scene, SceneRequest};
+use nhlab_core::{Scene, SceneRequest, Short};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -236,7 +236,11 @@ fn given_steps(steps: &[f64], t_end: f64) -> Result<Vec<f64>, AppError> {
         if !(h.is_finite() && h > 0.0 && h <= t_end) {
             return Err(AppError::invalid(
                 format!("steps[{i}]"),
-                format!("each step must be positive and at most t_end = {t_end}, got {h}"),
+                format!(
+                    "each step must be positive and at most t_end = {}, got {}",
+                    Short(t_end),
+                    Short(h)
+                ),
             ));
         }
     }

@@ -182,6 +182,37 @@ async fn out_of_range_parameters_are_422_with_the_range() {
     .await;
 }
 
+/// A huge or tiny number comes back as written, not as its 300 decimal digits.
+#[tokio::test]
+async fn extreme_values_are_echoed_in_exponent_form() {
+    let s = TestServer::start().await;
+    let cases = [
+        (
+            r#"{"system": "cvt_pendulum", "params": {"epsilon": 1e308}}"#,
+            "params.epsilon",
+            "= 1e308 is",
+        ),
+        (
+            r#"{"system": "knife_edge", "methods": [{"id": "dla", "alpha": -1e300}]}"#,
+            "methods[0].alpha",
+            "= -1e300 is",
+        ),
+        (r#"{"system": "knife_edge", "step": -1e-300}"#, "step", "got -1e-300"),
+        (r#"{"system": "knife_edge", "t_end": -1e300}"#, "t_end", "t_end = -1e300 must"),
+    ];
+    for (body, path, words) in cases {
+        rejects(&s, body, 422, Some(path), &[words]).await;
+    }
+    let response = reqwest::Client::new()
+        .post(s.at("/simulate"))
+        .body(r#"{"system": "knife_edge", "t_end": -1e300}"#)
+        .send()
+        .await
+        .expect("request succeeds");
+    let error: Value = response.json().await.expect("a JSON error");
+    assert!(error["error"].as_str().unwrap().len() < 100, "{error}");
+}
+
 #[tokio::test]
 async fn wrong_lengths_and_inconsistent_velocities_are_422() {
     let s = TestServer::start().await;
