@@ -12,6 +12,12 @@ export function runColor(i) {
   return COLORS[i % COLORS.length];
 }
 
+/** The line width of run `i`: earlier runs are wider, so a curve hidden under a later identical
+ * one (DLA^0.5 and DLA^{0,1} coincide on the knife edge) still shows as a halo. */
+export function runWidth(i) {
+  return Math.max(1.25, 2.8 - 0.35 * i);
+}
+
 const INTEGRALS = {
   energy: ['Energy H', '|H(t) − H(0)|'],
   passenger_energy: ['Passenger energy E', '|E(t) − E(0)|'],
@@ -137,9 +143,7 @@ export class Plots {
         ...result.runs.map((run, i) => ({
           label: run.label,
           stroke: runColor(i),
-          // Earlier curves are wider, so a curve hidden under a later identical one (DLA^0.5
-          // and DLA^{0,1} coincide on the knife edge) still shows as a halo.
-          width: Math.max(1.25, 2.8 - 0.35 * i),
+          width: runWidth(i),
           points: { show: false },
           value: (u, v) => (v === null || v === undefined ? '–' : v.toExponential(3)),
         })),

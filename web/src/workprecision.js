@@ -6,7 +6,7 @@
 
 import uPlot from 'uplot';
 import { ApiError, fetchWorkPrecision, retrying } from './api.js';
-import { runColor } from './plots.js';
+import { runColor, runWidth } from './plots.js';
 import { MAX_LEVELS, MAX_REPEATS, curves, decodeSettings, formatOrder, workPrecisionBody, workPrecisionQuery } from './precision.js';
 
 const HEIGHT = 320;
@@ -124,9 +124,10 @@ export class WorkPrecisionView {
         ...cs.map((c, i) => ({
           label: legendLabel(c, plot.key),
           stroke: runColor(i),
-          width: 2,
+          // Points shrink with i as the lines do (runWidth), for the same halo.
+          width: runWidth(i),
           spanGaps: true,
-          points: { show: true, size: 7, fill: runColor(i) },
+          points: { show: true, size: Math.max(5, 11 - i), fill: runColor(i) },
         })),
       ],
       legend: { live: false },
