@@ -1,8 +1,8 @@
 //! [`DriverHistory`]: the driver's last speed increments, from which DD guesses the driver's
 //! speed at the end of its next step for Newton. Used where V_d is not quadratic
 //! (`cvt_pendulum`, the mobile robot; where V is quadratic DD starts from the exact solution
-//! instead): by the `(q̇₁, λ)` solve of DD and DD-AVF and by DD's reduced solve
-//! (`dd_reduced`).
+//! instead): by the `(q̇₁, λ)` solve of DD and DD-AVF and by DD's solve for the
+//! driver's speed (`dd_reduced`).
 //!
 //! DD starts Newton from an explicit Euler step, accurate to O(h²). Most of that error is
 //! harmless: the passenger's velocity and λ enter DD's equations (nearly) linearly, so Newton
@@ -141,7 +141,7 @@ mod tests {
         falls_back_to_euler(&pendulum, 3, &Dd::default());
         // DD-AVF's `(q̇₁, λ)` solve, which starts from the guess too.
         falls_back_to_euler(&pendulum, 3, &DdAvf::default());
-        // DD's reduced solve.
+        // DD's solve for the driver's speed (`dd_reduced`).
         falls_back_to_euler(&MobileRobot, 0, &Dd::default());
     }
 

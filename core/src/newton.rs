@@ -18,12 +18,27 @@ pub struct NewtonConfig {
     pub stagnation_tol: f64,
     /// Give up after this many iterations.
     pub max_iter: u32,
+    /// Stop on Newton's error estimate (`C δ²` after an increment δ, in the quadratic regime)
+    /// only below `left_tol · (1 + |unknowns|)`. That error has one sign step after step: at
+    /// `tol` (10⁻¹⁴) the energy-conserving methods (DD, DD-AVF) would show it as a drift at
+    /// large steps; they take [`NewtonConfig::ENERGY_CONSERVING`].
+    pub left_tol: f64,
 }
 
 impl Default for NewtonConfig {
     fn default() -> Self {
-        Self { tol: 1e-14, stagnation_tol: 1e-10, max_iter: 20 }
+        Self { tol: 1e-14, stagnation_tol: 1e-10, max_iter: 20, left_tol: 1e-14 }
     }
+}
+
+impl NewtonConfig {
+    /// DD's and DD-AVF's: the default with `left_tol = 10⁻¹⁷`, below round-off. On
+    /// `cvt_pendulum`'s `oscillating-perturbed` scene at h = 0.5, DD's energy error after 10⁶
+    /// steps was 3.1·10⁻¹⁰ and growing (verdict `drift`), 1.9·10⁻¹² with it; at the paper's
+    /// h = 0.1 it costs 2–5 ns/step in `step_loop`, up to 8 in criterion, an iteration more on
+    /// some steps (`docs/stability.md`).
+    pub const ENERGY_CONSERVING: Self =
+        Self { tol: 1e-14, stagnation_tol: 1e-10, max_iter: 20, left_tol: 1e-17 };
 }
 
 /// Increments below this (relative) are taken to be in Newton's quadratic regime.
@@ -138,40 +153,37 @@ fn saddle_increment<const N: usize, const R: usize>(
     Ok((-(b_f1 + b_g * d_lambda), d_lambda))
 }
 
-/// Solves the two equations `f(x) = 0` from `x`, in place; `f` returns the values and the
-/// Jacobian. Same stopping rule as [`solve`]. Returns the last increment as computed, before
+/// Solves the one equation `f(x) = 0` from `x`, in place; `f` returns the value and the
+/// derivative. Same stopping rule as [`solve`]. Returns the last increment as computed, before
 /// its addition to `x` rounded it to `x`'s grid: a caller may apply it to finer quantities
-/// derived from `x` at the last evaluation. DD's reduced path uses it for the two
-/// coordinates of `q̇₀ + q̇₁` in the kernel of `A(q̄)`.
+/// derived from `x` at the last evaluation (DD's solve for the driver's speed applies it to
+/// q̇₁'s components), which leaves an error of the order of its square and of one sign. So the
+/// last increment must also be at most `linear_max · (1 + |x|)`: Newton's error estimate,
+/// which `cfg.left_tol` bounds, does not see the other second-order terms of that use.
 #[inline]
-pub fn solve_pair(
+pub fn solve_one(
     cfg: &NewtonConfig,
-    x: &mut Vector<2>,
-    mut f: impl FnMut(&Vector<2>) -> (Vector<2>, Matrix<2, 2>),
-) -> Result<Vector<2>, StepFailure> {
+    x: &mut f64,
+    linear_max: f64,
+    mut f: impl FnMut(f64) -> (f64, f64),
+) -> Result<f64, StepFailure> {
     let mut previous = f64::INFINITY;
     let mut increment = f64::INFINITY;
     for _ in 0..cfg.max_iter {
-        let (value, j) = f(x);
-        let det = j[(0, 0)] * j[(1, 1)] - j[(0, 1)] * j[(1, 0)];
-        if det == 0.0 {
+        let (value, slope) = f(*x);
+        if slope == 0.0 {
             return Err(StepFailure::Singular);
         }
-        // Cramer's rule, both numerators divided by the determinant at once: DD's Jacobian
-        // waits on the residual, so det is ready no earlier than the numerators, and its
-        // reciprocal times them was one link more (`docs/benchmarks.md`).
-        let numerators = Vector::<2>::new(
-            j[(0, 1)] * value[1] - j[(1, 1)] * value[0],
-            j[(1, 0)] * value[0] - j[(0, 0)] * value[1],
-        );
-        let dx = numerators / det;
+        let dx = -value / slope;
         *x += dx;
-        increment = dx.amax();
+        increment = dx.abs();
         if !increment.is_finite() {
             return Err(StepFailure::NonFinite);
         }
-        let left = NewtonConfig::left_after(increment, previous);
-        if cfg.converged(increment, (left, increment), previous, 1.0 + x.amax()) {
+        let (left, scale) = (NewtonConfig::left_after(increment, previous), 1.0 + x.abs());
+        if cfg.converged(increment, (left, increment), previous, scale)
+            && increment <= linear_max * scale
+        {
             return Ok(dx);
         }
         previous = increment;
@@ -212,7 +224,7 @@ impl NewtonConfig {
         // would accept δ₁ = 10⁻⁶ with an error of 10⁻¹²; never trusting it would make a tiny
         // step (h = 10⁻⁶) iterate into the round-off noise of DD's discrete gradient.
         increment <= self.tol * scale
-            || (regime <= QUADRATIC_REGIME * scale && left <= self.tol * scale)
+            || (regime <= QUADRATIC_REGIME * scale && left <= self.left_tol * scale)
             || (increment <= self.stagnation_tol * scale && increment >= 0.5 * previous)
     }
 }

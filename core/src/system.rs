@@ -193,6 +193,9 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     /// solves it exactly, without a second one to confirm it; with a quadratic U too, DD's and
     /// DD-AVF's discrete gradients are `∇V(q̄)` (up to DD's rounding term).
     const QUADRATIC_DRIVER: bool = false;
+    /// Whether the passenger feels no potential (`U ≡ 0`). DD's step then reduces to one
+    /// equation in the driver's speed (`dd_reduced`). Checked in `tests/derivatives.rs`.
+    const FREE_PASSENGER: bool = false;
     /// Whether ζ is an angle: `A` and `V_d` are 2π-periodic in it (U never depends on ζ).
     /// The reference solve then keeps ζ near 0 by whole turns, which keeps its rounding small.
     const ZETA_IS_ANGLE: bool = false;

@@ -92,11 +92,13 @@ mod tests {
                 assert!(back.abs() <= f64::EPSILON * 8.0, "step {k}: {back:e}");
             }
         }
-        // 70 turns later the two runs are the same but for the rounding of ζ (over 20,000
-        // steps the motion's sensitivity makes that 10⁻⁹).
+        // 70 turns later the two runs are the same but for the rounding of ζ, which the
+        // motion's sensitivity amplifies: 0.3–2.8·10⁻¹¹ here, depending on where Newton's
+        // stopping rule falls (measured with five of its tolerances, 2026-11-25), 10⁻⁹ over
+        // 20,000 steps. Turns of 2π to single precision (no `TAU_LO`) leave 1.4·10⁻⁵.
         assert!(turns > 70.0, "{turns}");
         let gap = (kept.q_with_turns(turns) - st.q).amax().max((kept.v - st.v).amax());
-        assert!(gap < 1e-11, "{gap:e}");
+        assert!(gap < 1e-10, "{gap:e}");
         // A start far out takes its turns at once, to the accuracy ζ had.
         let zeta = 1e6 * TAU + 1.0;
         let mut far =

@@ -1,7 +1,8 @@
 //! Every system's hand-written derivatives against central finite differences, its kernel
 //! against its constraint, its presets against the constraints, the periodicity in ζ that
 //! `ZETA_IS_ANGLE` declares, the quadratic U and V_d that `QUADRATIC_PASSENGER` and
-//! `QUADRATIC_DRIVER` declare, and its driver terms from sin/cos against the plain functions.
+//! `QUADRATIC_DRIVER` declare, the absent U that `FREE_PASSENGER` declares, and its driver
+//! terms from sin/cos against the plain functions.
 
 mod common;
 use nhlab_core::{Matrix, System, Vector};
@@ -61,6 +62,12 @@ fn check<S: System<N, R>, const N: usize, const R: usize>() {
                 assert_eq!(k, sys.passenger_hessian(&origin), "{id}: ∇²U not constant");
                 let affine = sys.passenger_gradient(&origin) + k * q;
                 assert!((sys.passenger_gradient(&q) - affine).amax() < 1e-14, "{id}: ∇U at {q}");
+            }
+            if S::FREE_PASSENGER {
+                // What DD's solve for the driver's speed alone relies on.
+                assert_eq!(sys.passenger_potential(&q), 0.0, "{id}: U ≠ 0");
+                assert_eq!(sys.passenger_gradient(&q), Vector::<N>::zeros(), "{id}: ∇U ≠ 0");
+                assert_eq!(sys.passenger_hessian(&q), Matrix::<N, N>::zeros(), "{id}: ∇²U ≠ 0");
             }
             if S::QUADRATIC_DRIVER {
                 // What DLA^α's fast path relies on when it takes one Newton step for the

@@ -182,8 +182,9 @@ fn a_diverging_run_says_so() {
 
 /// The driver keeps an angle ζ within a turn (`State::take_whole_turns`) and hands the
 /// final state over with the turns put back: the same as stepping by hand, which keeps ζ
-/// unbounded, to the rounding of ζ (here 480 rad, 76 turns; over 10⁵ steps the two drift
-/// apart by 10⁻⁷, mostly the hand-stepped run's rounding).
+/// unbounded, to the rounding of ζ, which the motion amplifies (here 480 rad, 76 turns: 10⁻¹¹,
+/// 0.3–2.8·10⁻¹¹ as Newton's stopping rule varies, `whole_turns.rs`; over 10⁵ steps the two
+/// drift apart by 10⁻⁷, mostly the hand-stepped run's rounding).
 #[derive(Default)]
 struct Final(Vec<f64>, Vec<f64>);
 impl Observer for Final {
@@ -215,6 +216,6 @@ fn the_final_state_counts_the_turns_taken_off() {
     }
     assert!(by_hand.q[2] > 400.0, "the driver turned: ζ = {}", by_hand.q[2]);
     let gap = (Vector::<3>::from_column_slice(&end.0) - by_hand.q).amax();
-    assert!(gap < 1e-11, "{gap:e}");
-    assert!((Vector::<3>::from_column_slice(&end.1) - by_hand.v).amax() < 1e-11);
+    assert!(gap < 1e-10, "{gap:e}");
+    assert!((Vector::<3>::from_column_slice(&end.1) - by_hand.v).amax() < 1e-10);
 }

@@ -38,7 +38,7 @@ pub struct DdAvf {
 
 impl Default for DdAvf {
     fn default() -> Self {
-        Self { newton: NewtonConfig::default(), fast_path: true }
+        Self { newton: NewtonConfig::ENERGY_CONSERVING, fast_path: true }
     }
 }
 

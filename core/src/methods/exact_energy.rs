@@ -21,8 +21,8 @@
 //! ```
 //!
 //! The midpoint constraint makes `s = w k̃ + σ e_ζ` (`passenger_kernel`), so
-//! `s·r = w F₁ + σ F₂` with `F₁ = k̃·r` and `F₂ = r_ζ`, the two equations of DD's reduced
-//! solve (`dd_reduced`). Both are affine in (w, σ) for quadratic V, and do not couple them (U
+//! `s·r = w F₁ + σ F₂` with `F₁ = k̃·r` and `F₂ = r_ζ`, the two projections of DD's
+//! momentum equation (`dd_reduced`). Both are affine in (w, σ) for quadratic V, and do not couple them (U
 //! does not depend on ζ). So [`finish`] takes the step's (w, σ) as solved in doubles,
 //! evaluates F₁ and F₂ there in double-double, with the state's q and q̇ as double-doubles
 //! (their compensations are the low parts), corrects (w, σ) by one Newton step, which is then

@@ -30,6 +30,7 @@ static INFO: SystemInfo = SystemInfo {
 
 impl System<4, 2> for MobileRobot {
     const QUADRATIC_PASSENGER: bool = true;
+    const FREE_PASSENGER: bool = true;
     const ZETA_IS_ANGLE: bool = true;
     fn info() -> &'static SystemInfo {
         &INFO

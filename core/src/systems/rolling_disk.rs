@@ -53,6 +53,7 @@ static INFO: SystemInfo = SystemInfo {
 
 impl System<4, 2> for RollingDisk {
     const QUADRATIC_PASSENGER: bool = true;
+    const FREE_PASSENGER: bool = true;
     const QUADRATIC_DRIVER: bool = true;
     const ZETA_IS_ANGLE: bool = true;
     fn info() -> &'static SystemInfo {
