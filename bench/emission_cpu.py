@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""What writing a dense answer costs the server's CPU, beside the compute (issue 4's streaming
+"""What writing a dense answer costs the server's CPU, beside the compute (the streaming
 overhead, measured without the wall clock's noise).
 
 A wall-clock ratio on a run of ~12 ms on two shared cores moves by tens of percent between
-two runs of the same binary (docs/benchmarks.md, "Streaming overhead"). This script counts CPU
-instead: the server's threads' CPU time per request, read exactly from
-/proc/PID/task/*/schedstat, over blocks of back-to-back requests, for one scene answered
+two runs of the same binary (docs/performance.md, "How to measure"). This script counts CPU instead:
+the server's threads' CPU time per request, read exactly from /proc/PID/task/*/schedstat, over
+blocks of back-to-back requests, for one scene answered
 
   - as a stream or as JSON, and
   - with `points` 1000 (the default: 75,000 numbers for the CVT preset) or 10 (the same

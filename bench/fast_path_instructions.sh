@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Instructions per step of every method with a fast path, on its fast and its general path,
 # on every system (first preset): callgrind counts instructions, which do not move with the
-# machine's load or the binary's layout as ns/step do (docs/benchmarks.md), so the fast/general
-# ratio of issue 4's 2× rule can be read without noise. Instructions are not time: where a
-# path waits on a long dependency chain its time ratio is below its instruction ratio.
+# machine's load or the binary's layout as ns/step do (docs/performance.md, "How to measure"), so
+# the fast/general ratio (a fast path is kept only where it is at least 2× its general path) can be
+# read without noise. Instructions are not time: where a path waits on a long dependency chain its
+# time ratio is below its instruction ratio.
 #
 #   bench/fast_path_instructions.sh            # needs valgrind (apt: valgrind)
 #   STEPS=20000 bench/fast_path_instructions.sh

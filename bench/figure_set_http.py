@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The paper's whole figure set through POST /simulate (issue 4).
+"""The paper's whole figure set through POST /simulate.
 
 Six JSON requests, each with the default methods (the paper's five), every integral and
 1000 points: the paper's experiments as `GET /systems` lists them (`paper_scenes`: knife_edge
@@ -22,7 +22,7 @@ requests of their longest run (each request's runs compute in parallel); the sum
 it is the honest "compute" when runs share cores; minus Σ cpu_ms, it is what the server adds:
 checking, JSON, HTTP).
 
-Target (issue 4): the whole figure set through /simulate under 60 ms of compute on this
+Target (docs/performance.md): the whole figure set through /simulate under 60 ms of compute on this
 2-core machine.
 
   python3 bench/figure_set_http.py                 # 15 repetitions

@@ -1,4 +1,4 @@
-/* A hand-written C nonholonomic leap-frog on cvt_pendulum (MATH.md §3), for scale against
+/* A hand-written C nonholonomic leap-frog on cvt_pendulum (docs/model.md §3), for scale against
  * nhlab's generic one (criterion: step/cvt_pendulum/LF). Same preset (oscillating, ε = 0),
  * same h = 0.1, same formulas; no integrals, no observer.
  *   gcc -O3 -march=native -o target/leapfrog bench/leapfrog.c -lm && target/leapfrog */

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Long runs through the stream (issue 4): memory stays flat and the series is exact.
+"""Long runs through the stream: memory stays flat and the series is exact.
 
 Starts the release server on loopback (ephemeral port unless --port), then on the knife edge
 (preset `paper`, h = π/10) streams, one request per method (Accept: text/event-stream,
@@ -13,7 +13,7 @@ server's VmRSS (/proc/PID/status) is sampled every --interval seconds; VmHWM (pe
 through /proc/PID/clear_refs before each run) catches peaks between samples.
 
 Exactness: bucket j of a series of `total` samples in B buckets ends at sample
-⌊(j+1)·total/B⌋ (core/src/bucket.rs). With N divisible by 10·P, both runs end bucket j at
+⌊(j+1)·total/B⌋ (core/src/measure/bucket.rs). With N divisible by 10·P, both runs end bucket j at
 (j+1)·N/P, so the first P/10 buckets of the long run must equal the short run's buckets
 bitwise (t, mean, max of every integral). The short run is also fetched as JSON and must equal
 its stream exactly. t_end is sent as (N + ½)·h, so ⌊t_end/h + 10⁻⁹⌋ = N without rounding

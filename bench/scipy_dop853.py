@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
 """What a user would pick instead of nhlab: SciPy's solve_ivp(method="DOP853") on the same
-reduced ODE (MATH.md §1, multiplier eliminated), on the two work–precision scenes of
-docs/benchmarks.md. Prints CSV: scene,method,rtol,elapsed_ms,final_error, the error taken
-against SciPy's own reference: DOP853 at its tightest tolerance (rtol = 100 ε, atol = 1e-15),
-restarted every time unit with the angle ζ brought back near 0 by whole turns, as nhlab's
-reference is (a plain solve at 1e-13 is only good to ~1e-7 on the rotating CVT at t = 3000:
-ζ reaches 7000). Its final state goes to stderr, to compare with nhlab's. Tolerances in half
-decades, 1e-3 … 3.2e-14 (as fine as nhlab's √2 step ladder; SciPy allows rtol down to 100 ε). Time is the minimum of 3 runs.
+reduced ODE (docs/model.md §1, multiplier eliminated), on the two work–precision scenes of
+docs/performance.md. Prints CSV: scene,method,rtol,elapsed_ms,final_error, the error taken against
+SciPy's own reference: DOP853 at its tightest tolerance (rtol = 100 ε, atol = 1e-15), restarted
+every time unit with the angle ζ brought back near 0 by whole turns, as nhlab's reference is (a
+plain solve at 1e-13 is only good to ~1e-7 on the rotating CVT at t = 3000: ζ reaches 7000). Its
+final state goes to stderr, to compare with nhlab's. Tolerances in half decades, 1e-3 … 3.2e-14 (as
+fine as nhlab's √2 step ladder; SciPy allows rtol down to 100 ε). Time is the minimum of 3 runs.
 
     pip install scipy && python3 bench/scipy_dop853.py > target/wp_scipy.csv
 """

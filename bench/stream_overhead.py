@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Streaming overhead (issue 4): the wall time of a whole SSE stream, read event by event by a
-client, against the compute alone of the same runs.
+"""Streaming overhead: the wall time of a whole SSE stream, read event by event by a client,
+against the compute alone of the same runs.
 
 Two scenes:
   long  knife_edge/paper, leapfrog, 10⁷ steps (t_end = (10⁷ + ½)·π/10), 1000 points
@@ -22,7 +22,7 @@ server's CPU time per request (/proc/PID/stat; 10 ms ticks, averaged over the re
 against the baseline's.
 
 overhead = (stream wall − compute wall) / compute wall, from the minima (and the medians).
-Target (issue 4): under 10 %.
+Target (docs/performance.md): under 10 %.
 
   python3 bench/stream_overhead.py                # 9 repetitions per scene and client
   python3 bench/stream_overhead.py --reps 21 --no-build --port 8082

@@ -16,11 +16,11 @@
 //! 2π): every period rounds the same numbers the same way, so in doubles the rounding errors
 //! add up linearly instead of like √N. h = 0.31 is not commensurate with the period.
 
-use nhlab_core::methods::Dd;
+use nhlab_core::methods::{Dd, Memory};
 use nhlab_core::systems::KnifeEdge;
-use nhlab_core::{Method, Scene, SceneRequest, State, System, Vector};
+use nhlab_core::{Integrator, Scene, SceneRequest, State, System, Vector};
 
-fn run(steps: u64, h: f64, m: &Method, compensated: bool) -> Vec<(u64, f64)> {
+fn run(steps: u64, h: f64, m: &Dd, compensated: bool) -> Vec<(u64, f64)> {
     let req = SceneRequest {
         system: "knife_edge".into(),
         preset: Some("paper".into()),
@@ -31,14 +31,15 @@ fn run(steps: u64, h: f64, m: &Method, compensated: bool) -> Vec<(u64, f64)> {
     let (q, v) =
         (Vector::<3>::from_column_slice(&scene.q), Vector::<3>::from_column_slice(&scene.v));
     let mut st = State::with_continuous_multiplier(&sys, q, v).expect("regular");
+    let mut memory = <Dd as Integrator>::Memory::<3, 1>::empty();
     let h0 = sys.energy(&st.q, &st.v);
     let mut worst: f64 = 0.0;
     let mut out = Vec::new();
     let mut next = 10_000;
     for k in 1..=steps {
-        m.step(&sys, &mut st, h).expect("step");
+        m.step(&sys, &mut st, &mut memory, h).expect("step");
         // As the driver does (`simulate::run`): ζ is an angle, kept within [−π, π].
-        st.take_whole_turns();
+        st.take_whole_turns(&mut memory);
         if !compensated {
             st.q_compensation = Vector::zeros();
             st.v_compensation = Vector::zeros();
@@ -54,8 +55,8 @@ fn run(steps: u64, h: f64, m: &Method, compensated: bool) -> Vec<(u64, f64)> {
 
 fn main() {
     let steps: u64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(100_000_000);
-    let dd = Method::Dd(Dd::default());
-    let doubles = Method::Dd(Dd { fast_path: false, ..Dd::default() });
+    let dd = Dd::default();
+    let doubles = Dd { fast_path: false, ..Dd::default() };
     println!("steps | h | max |H − H(0)|: DD | plain | doubles");
     for h in [std::f64::consts::PI / 10.0, 0.31] {
         let exact = run(steps, h, &dd, true);

@@ -27,6 +27,7 @@ fn report<S: System<N, R>, const N: usize, const R: usize>(steps: usize) {
             let Some(mut st) = State::<N, R>::with_continuous_multiplier(&sys, q, v) else {
                 continue;
             };
+            let mut memory = general.memory();
             // The state's value, with the compensations (which carry DD's exact end where V
             // is quadratic, `exact_energy`); H and the size of its terms there.
             let value = |s: &State<N, R>| (s.q + s.q_compensation, s.v + s.v_compensation);
@@ -39,9 +40,9 @@ fn report<S: System<N, R>, const N: usize, const R: usize>(steps: usize) {
             let (mut fast_dh, mut general_dh, mut taken) = (0.0, 0.0, 0usize);
             for _ in 0..steps {
                 let (h0, scale) = energy(&st);
-                let (mut a, mut b) = (st, st);
-                if fast.step(&sys, &mut a, scene.step).is_err()
-                    || general.step(&sys, &mut b, scene.step).is_err()
+                let ((mut a, mut a_mem), (mut b, mut b_mem)) = ((st, memory), (st, memory));
+                if fast.step(&sys, &mut a, &mut a_mem, scene.step).is_err()
+                    || general.step(&sys, &mut b, &mut b_mem, scene.step).is_err()
                 {
                     break;
                 }
@@ -51,9 +52,9 @@ fn report<S: System<N, R>, const N: usize, const R: usize>(steps: usize) {
                 fast_dh += (energy(&a).0 - h0) / scale;
                 general_dh += (energy(&b).0 - h0) / scale;
                 taken += 1;
-                st = b;
+                (st, memory) = (b, b_mem);
                 if S::ZETA_IS_ANGLE {
-                    st.take_whole_turns();
+                    st.take_whole_turns(&mut memory);
                 }
             }
             let per_step = |x: f64| x / taken.max(1) as f64;

@@ -1,53 +1,42 @@
 //! nhlab-core: the numerics of nhlab, without I/O.
 //!
-//! Modin & Verdier's nonholonomic test systems ([`systems`]), the integrators of the
-//! literature ([`methods`]), the first integrals and their error series ([`Integral`],
-//! [`Bucketer`]), the hidden latitude integral ([`latitude`]) and the driver that runs a
-//! method on a scene and hands the downsampled error series to an [`Observer`]
-//! ([`simulate`]). The [`registry`] lists every system and every method; it feeds the
-//! server's `GET /systems` and the cross-product tests.
+//! Five wings, each a folder:
+//! - [`model`]: the class of nonholonomically coupled systems ([`System`]), the test
+//!   systems ([`systems`]) and the state a step moves ([`State`]);
+//! - [`methods`]: the integrators, one file or folder each, with the [`Integrator`] trait
+//!   and each method's own memory ([`methods::Memory`]); [`Method`] is the one list of them;
+//! - [`solver`]: the kernels the implicit methods share (Newton, small linear algebra,
+//!   double-double arithmetic, angle tracking);
+//! - [`measure`]: what a run measures (integrals, the latitude, buckets, verdicts,
+//!   properties, the reference solution, work–precision) and the driver that runs a method
+//!   on a problem and hands the error series to an [`Observer`];
+//! - [`catalogue`]: the registry of systems and the scenes users ask for.
 //!
-//! `shared/MATH.md` of the project is the specification; names follow the paper.
+//! The mathematics is written up in `docs/model.md`; the code cites its sections. Names
+//! follow the paper (Modin & Verdier, *What makes nonholonomic integrators work?*).
 #![warn(missing_docs)]
 
-pub(crate) mod angle_tracker;
-pub mod bucket;
-pub mod classify;
-pub(crate) mod double_double;
-pub(crate) mod driver_history;
+pub mod catalogue;
 pub mod error;
-pub mod integral;
-pub mod latitude;
-pub(crate) mod linalg;
-pub mod method;
+pub mod measure;
 pub mod methods;
-pub mod newton;
-pub(crate) mod passenger_kernel;
-pub mod properties;
-pub mod reference;
-pub mod registry;
-pub mod scene;
-pub mod simulate;
-pub mod state;
-pub mod system;
-pub mod systems;
-pub(crate) mod whole_turns;
-pub mod work_precision;
+pub mod model;
+pub mod solver;
 
-pub use bucket::{Bucket, Bucketer};
-pub use classify::{Verdict, VerdictKind, classify};
+pub use catalogue::registry::{PAPER_SCENES, SYSTEMS, SystemEntry, system};
+pub use catalogue::scene::{MAX_INITIAL, PreparedScene, Scene, SceneRequest};
 pub use error::{InputError, RunError, Short, StepFailure};
-pub use integral::Integral;
-pub use method::{Integrator, MethodInfo};
-pub use newton::NewtonConfig;
-pub use properties::Properties;
-pub use registry::{
-    Method, MethodSpec, PAPER_SCENES, SYSTEMS, SystemEntry, method_info, method_infos, system,
-};
-pub use scene::{MAX_INITIAL, PreparedScene, Scene, SceneRequest};
-pub use simulate::{Collect, Observer, Problem, RunConfig, RunOutcome};
-pub use state::State;
-pub use system::{DriverTerms, ParamSpec, Preset, System, SystemInfo};
+pub use measure::bucket::{Bucket, Bucketer};
+pub use measure::classify::{Verdict, VerdictKind, classify};
+pub use measure::integral::Integral;
+pub use measure::properties::Properties;
+pub use measure::simulate::{Collect, Observer, Problem, RunConfig, RunOutcome};
+pub use methods::integrator::{Integrator, MethodInfo};
+pub use methods::{Method, MethodMemory, MethodSpec, method_info, method_infos};
+pub use model::state::State;
+pub use model::system::{DriverTerms, ParamSpec, Preset, System, SystemInfo};
+pub use model::systems;
+pub use solver::newton::NewtonConfig;
 
 /// A column vector of fixed size: the numerics never allocate per step.
 pub type Vector<const N: usize> = nalgebra::SVector<f64, N>;

@@ -1,32 +1,198 @@
-//! The integrators of MATH.md §3, one file each. Register a new one in [`crate::registry`].
+//! The integrators of `docs/model.md` §3, one file or folder each, and the one list of them.
+//!
+//! A new method is one file (or folder) here plus one line in the `methods!` invocation
+//! below: the list declares the module and generates [`Method`], the configured method the
+//! API, the dispatch, the tests' cross products and `GET /systems` (hence the page) all use.
+//! Each method is a small config struct implementing [`Integrator`]; what it carries from
+//! step to step is its own [`Memory`]. Fast paths sit beside their general path, in the
+//! method's file or folder, and are tested against it (`tests/fast_path.rs`).
 
-mod dd;
-mod dd_avf;
-mod dd_reduced;
-mod dla;
-mod dla01;
-mod exact_energy;
-mod leapfrog;
-mod rk4;
+pub mod coupled;
+pub mod integrator;
+pub mod memory;
 
-pub use dd::Dd;
-pub use dd_avf::DdAvf;
-pub use dla::Dla;
-pub use dla01::Dla01;
-pub use leapfrog::Leapfrog;
-pub use rk4::Rk4;
+pub use integrator::{Integrator, MethodInfo};
+pub use memory::{Memory, Recall};
 
-use crate::system::System;
+use crate::catalogue::params::resolve_params;
+use crate::measure::simulate::{self, Observer, Problem, RunConfig, RunOutcome};
+use crate::model::system::System;
+use crate::{InputError, State, StepFailure};
 
-/// Whether DLA^α's and DLA^{0,1}'s coupled fast paths run on a system. Issue 4 keeps a fast
-/// path only where it is at least 2× faster than the general Newton solve. Where V is
-/// quadratic and ζ is not an angle (`cvt`, `particle`) the driver's update is affine, the
-/// passenger's one linear solve, and neither needs a sine: 2.05–2.56× the general paths in
-/// criterion, 2.2–2.4× in a steady loop, 3.5–3.7× in instructions (2026-11-25,
-/// `docs/benchmarks.md`; `particle`'s DLA^α is the closest). Where ζ is an angle, the sines and
-/// cosines that both paths evaluate held the fast paths to 1.56–2.00× (knife edge,
-/// `cvt_pendulum`, both disks; 2026-11-25, `docs/benchmarks.md`), so those systems take the
-/// general solve.
-pub const fn coupled_fast_path<S: System<N, R>, const N: usize, const R: usize>() -> bool {
-    S::QUADRATIC_PASSENGER && S::QUADRATIC_DRIVER && !S::ZETA_IS_ANGLE
+macro_rules! methods {
+    ($($module:ident :: $variant:ident),* $(,)?) => {
+        $(pub mod $module; pub use self::$module::$variant;)*
+
+        /// A configured method: one of the list, with its parameters.
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub enum Method {
+            $(
+                #[doc = concat!("[`", stringify!($variant), "`]")]
+                $variant($variant),
+            )*
+        }
+
+        /// The memory of a [`Method`], for code that steps a method chosen at run time
+        /// (tests, tools); a run keeps its method's own memory type.
+        #[derive(Debug, Clone, Copy)]
+        pub enum MethodMemory<const N: usize, const R: usize> {
+            $(
+                #[doc = concat!("[`", stringify!($variant), "`]'s")]
+                $variant(<$variant as Integrator>::Memory<N, R>),
+            )*
+        }
+
+        impl<const N: usize, const R: usize> Recall<N, R> for MethodMemory<N, R> {
+            fn driver_terms_at(&self, zeta: f64) -> Option<(f64, crate::Matrix<R, N>)> {
+                match self { $(MethodMemory::$variant(m) => m.driver_terms_at(zeta)),* }
+            }
+            fn moved(&mut self, from: &crate::Vector<N>, to: &crate::Vector<N>) {
+                match self { $(MethodMemory::$variant(m) => m.moved(from, to)),* }
+            }
+        }
+
+        /// Every method's description, in listing order.
+        pub fn method_infos() -> Vec<&'static MethodInfo> {
+            vec![$(<$variant as Integrator>::info()),*]
+        }
+
+        impl Method {
+            fn build(id: &str, params: &[f64]) -> Option<Result<Self, InputError>> {
+                $(
+                    if id == <$variant as Integrator>::info().id {
+                        return Some($variant::from_params(params).map(Method::$variant));
+                    }
+                )*
+                None
+            }
+            /// Its description.
+            pub fn info(&self) -> &'static MethodInfo {
+                match self { $(Method::$variant(_) => <$variant as Integrator>::info()),* }
+            }
+            /// Short label, e.g. `DLA^0.4`.
+            pub fn label(&self) -> String {
+                match self { $(Method::$variant(m) => m.label()),* }
+            }
+            /// Order of convergence.
+            pub fn order(&self) -> u32 {
+                match self { $(Method::$variant(m) => m.order()),* }
+            }
+            /// Parameter values with their names.
+            pub fn params(&self) -> Vec<(&'static str, f64)> {
+                let values = match self { $(Method::$variant(m) => m.params()),* };
+                self.info().params.iter().map(|p| p.name).zip(values).collect()
+            }
+            /// The same method on its general path, for a method that has faster ones: what
+            /// the fast paths are tested against and benchmarked beside. `None` for the others.
+            pub fn general_path(&self) -> Option<Method> {
+                match self { $(Method::$variant(m) => m.general_path().map(Method::$variant)),* }
+            }
+            /// An empty memory for this method.
+            pub fn memory<const N: usize, const R: usize>(&self) -> MethodMemory<N, R> {
+                match self {
+                    $(Method::$variant(_) => MethodMemory::$variant(Memory::empty())),*
+                }
+            }
+            /// One step, with `memory` from [`Method::memory`] (a memory of another method
+            /// is replaced by an empty one).
+            pub fn step<S: System<N, R>, const N: usize, const R: usize>(
+                &self, sys: &S, state: &mut State<N, R>, memory: &mut MethodMemory<N, R>, h: f64,
+            ) -> Result<(), StepFailure> {
+                match (self, &mut *memory) {
+                    $((Method::$variant(m), MethodMemory::$variant(mem)) => m.step(sys, state, mem, h),)*
+                    #[allow(unreachable_patterns, reason = "reached with two or more methods")]
+                    _ => {
+                        *memory = self.memory();
+                        self.step(sys, state, memory, h)
+                    }
+                }
+            }
+            /// `n` steps from an empty memory with one dispatch, as a run takes them but
+            /// without integrals: what the ns/step benchmarks time.
+            pub fn steps<S: System<N, R>, const N: usize, const R: usize>(
+                &self, sys: &S, state: &mut State<N, R>, h: f64, n: u64,
+            ) -> Result<(), StepFailure> {
+                match self {
+                    $(Method::$variant(m) => {
+                        let mut memory = Memory::empty();
+                        (0..n).try_for_each(|_| m.step(sys, state, &mut memory, h))
+                    }),*
+                }
+            }
+            /// Runs the method on a problem.
+            pub fn run<S: System<N, R>, const N: usize, const R: usize>(
+                &self, problem: &Problem<'_, S, N, R>, cfg: &RunConfig, observer: &mut dyn Observer,
+            ) -> RunOutcome {
+                match self { $(Method::$variant(m) => simulate::run(problem, m, cfg, observer)),* }
+            }
+        }
+    };
+}
+
+methods!(dla::Dla, dla01::Dla01, leapfrog::Leapfrog, dd::Dd, dd_avf::DdAvf, rk4::Rk4);
+
+/// A method as a user names it: an id and parameter overrides.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MethodSpec {
+    /// Method id.
+    pub id: String,
+    /// Parameters by name.
+    pub params: Vec<(String, f64)>,
+}
+
+impl MethodSpec {
+    /// A spec with no parameters.
+    pub fn new(id: &str) -> Self {
+        Self { id: id.into(), params: Vec::new() }
+    }
+    /// Adds a parameter.
+    pub fn with(mut self, name: &str, value: f64) -> Self {
+        self.params.push((name.into(), value));
+        self
+    }
+}
+
+/// The description of the method with this id.
+pub fn method_info(id: &str) -> Option<&'static MethodInfo> {
+    method_infos().into_iter().find(|m| m.id == id)
+}
+
+impl Method {
+    /// Builds a method from a spec, checking its parameters (field paths are relative to
+    /// the method object, e.g. `alpha`).
+    pub fn from_spec(spec: &MethodSpec) -> Result<Self, InputError> {
+        let info = method_info(&spec.id).ok_or_else(|| InputError::UnknownMethod {
+            field: "id".into(),
+            id: spec.id.clone(),
+            valid: method_infos().iter().map(|m| m.id).collect::<Vec<_>>().join(", "),
+        })?;
+        let given = spec.params.iter().map(|(name, value)| (name.as_str(), *value, true));
+        let owner = format!("method {}", info.id);
+        let values = resolve_params(info.params, given, "", &owner)?;
+        Self::build(info.id, &values).expect("method_info found the id")
+    }
+
+    /// The paper's five: DLA^0.5, DLA^0.4, DLA^{0,1}, LF, DD.
+    pub fn paper_five() -> [Method; 5] {
+        [
+            Method::Dla(Dla { alpha: 0.5, ..Dla::default() }),
+            Method::Dla(Dla { alpha: 0.4, ..Dla::default() }),
+            Method::Dla01(Dla01::default()),
+            Method::Leapfrog(Leapfrog),
+            Method::Dd(Dd::default()),
+        ]
+    }
+
+    /// Every method of the list with its default parameters, the paper's five first (so
+    /// DLA^α twice, at α = ½ and 0.4): what the scorecard, the benchmarks and the tools run.
+    pub fn all() -> Vec<Method> {
+        let mut out = Self::paper_five().to_vec();
+        for info in method_infos() {
+            if !out.iter().any(|m| m.info().id == info.id) {
+                // A listed id with its defaults always builds.
+                out.extend(Self::from_spec(&MethodSpec::new(info.id)));
+            }
+        }
+        out
+    }
 }

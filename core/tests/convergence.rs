@@ -31,9 +31,9 @@ fn global_error<S: System<N, R>, const N: usize, const R: usize>(
 ) -> f64 {
     let (q0, v0) = exact(0.0);
     let mut st = State::with_continuous_multiplier(sys, q0, v0).unwrap();
-    let h = t_end / steps as f64;
+    let (h, mut memory) = (t_end / steps as f64, method.memory());
     for _ in 0..steps {
-        method.step(sys, &mut st, h).unwrap();
+        method.step(sys, &mut st, &mut memory, h).unwrap();
     }
     let (q, v) = exact(t_end);
     (st.q - q).amax().max((st.v - v).amax())

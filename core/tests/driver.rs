@@ -1,12 +1,12 @@
 //! The driver's contract: step counts, buckets, typed failures that keep completed buckets,
 //! non-finite detection and cancellation.
 
-use nhlab_core::method::{Integrator, MethodInfo};
-use nhlab_core::simulate::{Problem, run};
+use nhlab_core::measure::simulate::{Problem, run};
+use nhlab_core::methods::{Memory, Recall};
 use nhlab_core::systems::KnifeEdge;
 use nhlab_core::{
-    Bucket, Collect, InputError, Integral, Observer, RunConfig, RunError, State, StepFailure,
-    System, Vector,
+    Bucket, Collect, InputError, Integral, Integrator, MethodInfo, Observer, RunConfig, RunError,
+    State, StepFailure, System, Vector,
 };
 use std::ops::ControlFlow;
 
@@ -16,6 +16,15 @@ struct Faulty {
     fail_at: u64,
     nan: bool,
 }
+/// [`Faulty`] remembers nothing.
+#[derive(Debug, Clone, Copy)]
+struct Nothing;
+impl<const N: usize, const R: usize> Memory<N, R> for Nothing {
+    fn empty() -> Self {
+        Nothing
+    }
+}
+impl<const N: usize, const R: usize> Recall<N, R> for Nothing {}
 static FAULTY: MethodInfo = MethodInfo {
     id: "faulty",
     name: "test method",
@@ -30,6 +39,7 @@ thread_local! {
 }
 
 impl Integrator for Faulty {
+    type Memory<const N: usize, const R: usize> = Nothing;
     fn info() -> &'static MethodInfo {
         &FAULTY
     }
@@ -43,6 +53,7 @@ impl Integrator for Faulty {
         &self,
         sys: &S,
         st: &mut State<N, R>,
+        _: &mut Nothing,
         h: f64,
     ) -> Result<(), StepFailure> {
         let k = STEP.get() + 1;
@@ -196,6 +207,7 @@ impl Observer for Final {
 
 #[test]
 fn the_final_state_counts_the_turns_taken_off() {
+    use nhlab_core::methods::Dd;
     use nhlab_core::systems::CvtPendulum;
     let sys = CvtPendulum { epsilon: 0.5 };
     let p = &CvtPendulum::info().presets[3];
@@ -207,12 +219,12 @@ fn the_final_state_counts_the_turns_taken_off() {
     .unwrap();
     let problem =
         Problem { sys: &sys, start, step: 0.1, steps: 2000, integrals: &[], latitude: None };
-    let dd = nhlab_core::methods::Dd::default();
+    let dd = Dd::default();
     let mut end = Final::default();
     assert_eq!(run(&problem, &dd, &RunConfig::default(), &mut end).error, None);
-    let mut by_hand = start;
+    let (mut by_hand, mut memory) = (start, <Dd as Integrator>::Memory::<3, 1>::empty());
     for _ in 0..2000 {
-        dd.step(&sys, &mut by_hand, 0.1).unwrap();
+        dd.step(&sys, &mut by_hand, &mut memory, 0.1).unwrap();
     }
     assert!(by_hand.q[2] > 400.0, "the driver turned: ζ = {}", by_hand.q[2]);
     let gap = (Vector::<3>::from_column_slice(&end.0) - by_hand.q).amax();

@@ -21,12 +21,13 @@ const ULPS: f64 = 16.0;
 /// turns taken off ζ as the driver does.
 fn energy_error<S: System<N, R>, const N: usize, const R: usize>(preset: usize, m: &Method) -> f64 {
     let (sys, mut st, h) = preset_start::<S, N, R>(preset);
+    let mut memory = m.memory();
     let h0 = sys.energy(&st.q, &st.v);
     let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
     for _ in 0..STEPS {
-        m.step(&sys, &mut st, h).unwrap();
+        m.step(&sys, &mut st, &mut memory, h).unwrap();
         if S::ZETA_IS_ANGLE {
-            st.take_whole_turns();
+            st.take_whole_turns(&mut memory);
         }
         worst = worst.max((sys.energy(&st.q, &st.v) - h0).abs());
         scale = scale.max(0.5 * st.v.norm_squared() + sys.potential(&st.q).abs());

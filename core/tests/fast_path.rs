@@ -37,16 +37,24 @@ fn same_steps<S: System<N, R>, const N: usize, const R: usize>() {
         let (sys, start, h) = preset_start::<S, N, R>(preset);
         for (fast, general) in pairs() {
             let name = case::<S, N, R>(preset, &fast.label());
-            let mut st = start;
+            let (mut st, mut memory) = (start, general.memory());
             let mut worst: f64 = 0.0;
             for k in 0..STEPS {
-                let (mut a, mut b) = (st, st);
-                fast.step(&sys, &mut a, h).unwrap();
-                general.step(&sys, &mut b, h).unwrap();
+                let ((mut a, mut a_mem), (mut b, mut b_mem)) = ((st, memory), (st, memory));
+                match (
+                    fast.step(&sys, &mut a, &mut a_mem, h),
+                    general.step(&sys, &mut b, &mut b_mem, h),
+                ) {
+                    (Ok(()), Ok(())) => {}
+                    // A method that diverges (DLA^1 gains energy, and on `anharmonic_cvt`'s
+                    // stiffening spring runs away) fails alike on both paths.
+                    (Err(x), Err(y)) if x == y && k > 0 => break,
+                    (x, y) => panic!("{name} step {k}: fast {x:?}, general {y:?}"),
+                }
                 let rel = step_difference(&a, &b);
                 worst = worst.max(rel);
                 assert!(rel <= TOL, "{name} step {k}: fast and general differ by {rel:e}");
-                st = b;
+                (st, memory) = (b, b_mem);
             }
             assert!(worst.is_finite());
         }
@@ -55,7 +63,6 @@ fn same_steps<S: System<N, R>, const N: usize, const R: usize>() {
 
 #[test]
 fn fast_paths_take_the_general_paths_steps() {
-    common::assert_typed_list_matches_registry();
     for_each_system!(same_steps);
 }
 
@@ -64,11 +71,13 @@ fn fast_paths_take_the_general_paths_steps() {
 #[test]
 fn a_different_method_is_caught() {
     let (sys, st, h) = preset_start::<nhlab_core::systems::Cvt, 3, 1>(0);
+    let (fast, other) = (
+        Method::Dla(Dla { alpha: 0.5, ..Dla::default() }),
+        Method::Dla(Dla { alpha: 0.5 + 1e-9, fast_path: false, ..Dla::default() }),
+    );
     let (mut a, mut b) = (st, st);
-    Method::Dla(Dla { alpha: 0.5, ..Dla::default() }).step(&sys, &mut a, h).unwrap();
-    Method::Dla(Dla { alpha: 0.5 + 1e-9, fast_path: false, ..Dla::default() })
-        .step(&sys, &mut b, h)
-        .unwrap();
+    fast.step(&sys, &mut a, &mut fast.memory(), h).unwrap();
+    other.step(&sys, &mut b, &mut other.memory(), h).unwrap();
     assert!((a.v - b.v).amax() / size(&b) > TOL);
 }
 
@@ -77,7 +86,7 @@ fn a_different_method_is_caught() {
 /// solve, so the comparison above holds there trivially.
 #[test]
 fn dla_fast_paths_run_where_they_pay() {
-    use nhlab_core::methods::coupled_fast_path;
+    use nhlab_core::methods::coupled::coupled_fast_path;
     use nhlab_core::systems::*;
     assert!(coupled_fast_path::<Cvt, 3, 1>() && coupled_fast_path::<Particle, 3, 1>());
     assert!(!coupled_fast_path::<CvtPendulum, 3, 1>() && !coupled_fast_path::<KnifeEdge, 3, 1>());
@@ -100,6 +109,7 @@ fn mean_energy_change<S: System<N, R>, const N: usize, const R: usize>(
     h: Option<f64>,
 ) -> (f64, f64) {
     let (sys, mut st, preset_h) = preset_start::<S, N, R>(preset);
+    let mut memory = general.memory();
     let h = h.unwrap_or(preset_h);
     // The state's value: with the compensations, which carry DD's exact end (`exact_energy`).
     let energy = |s: &nhlab_core::State<N, R>| {
@@ -110,14 +120,14 @@ fn mean_energy_change<S: System<N, R>, const N: usize, const R: usize>(
     let (mut fast_sum, mut general_sum) = (0.0, 0.0);
     for _ in 0..BIAS_STEPS {
         let (h0, scale) = energy(&st);
-        let (mut a, mut b) = (st, st);
-        m.step(&sys, &mut a, h).unwrap();
-        general.step(&sys, &mut b, h).unwrap();
+        let ((mut a, mut a_mem), (mut b, mut b_mem)) = ((st, memory), (st, memory));
+        m.step(&sys, &mut a, &mut a_mem, h).unwrap();
+        general.step(&sys, &mut b, &mut b_mem, h).unwrap();
         fast_sum += (energy(&a).0 - h0) / scale;
         general_sum += (energy(&b).0 - h0) / scale;
-        st = b;
+        (st, memory) = (b, b_mem);
         if S::ZETA_IS_ANGLE {
-            st.take_whole_turns();
+            st.take_whole_turns(&mut memory);
         }
     }
     (fast_sum / BIAS_STEPS as f64, general_sum / BIAS_STEPS as f64)

@@ -17,13 +17,15 @@
 mod common;
 use common::{case, preset_start, worst_step_difference};
 use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01};
-use nhlab_core::{Method, NewtonConfig, State, System};
+use nhlab_core::{Method, MethodMemory, NewtonConfig, State, System};
 
 const STEPS: usize = 2000;
 
 /// The default rule's iterate may be off by its estimate (≤ tol = 10⁻¹⁴ of the unknowns'
 /// size) and the round-off of the iteration that would follow (DD's worst, 3.3·10⁻¹⁴).
 const TOL: f64 = 5e-14;
+/// DD's round-off floor where U is not quadratic (see its use).
+const DD_FLOOR: f64 = 2e-13;
 
 /// Each implicit method on its Newton solve, with the given settings.
 fn methods(newton: NewtonConfig) -> Vec<Method> {
@@ -37,26 +39,42 @@ fn methods(newton: NewtonConfig) -> Vec<Method> {
 }
 
 fn stops_where_iterating_on_would<S: System<N, R>, const N: usize, const R: usize>() {
-    // A negative tol: no estimate is trusted (not even one of 0), only the stagnation rule
-    // stops it, once an increment no longer halves.
-    let to_round_off = NewtonConfig { tol: -1.0, max_iter: 50, ..NewtonConfig::default() };
+    // Negative tolerances: no estimate is trusted (not even one of 0), only the stagnation
+    // rule stops it, once an increment no longer halves.
+    let to_round_off =
+        NewtonConfig { tol: -1.0, left_tol: -1.0, max_iter: 50, ..NewtonConfig::default() };
     for preset in 0..S::info().presets.len() {
         let (sys, start, h) = preset_start::<S, N, R>(preset);
         for (m, reference) in methods(NewtonConfig::default()).iter().zip(methods(to_round_off)) {
-            let step = |method: &Method, st: &mut State<N, R>| {
+            let step = |method: &Method, st: &mut State<N, R>, memory: &mut MethodMemory<N, R>| {
                 // Whole turns off ζ first, as runs take them (the rotating driver's ζ grows),
                 // on the state both steps start from.
                 if S::ZETA_IS_ANGLE {
-                    st.take_whole_turns();
+                    st.take_whole_turns(memory);
                 }
-                method.step(&sys, st, h).unwrap();
+                // DLA^1 gains energy and, on `anharmonic_cvt`'s stiffening spring, runs away
+                // (the passenger reaches 1e87 within 517 steps of `rotating`): both rules fail
+                // that step alike, and the comparison starts again from the start.
+                if method.step(&sys, st, memory, h).is_err() {
+                    assert_eq!(method.label(), "DLA^1", "{}", S::info().id);
+                    (*st, *memory) = (start, method.memory());
+                }
             };
-            let worst =
-                worst_step_difference(start, STEPS, |st| step(m, st), |st| step(&reference, st));
+            let worst = worst_step_difference(
+                start,
+                reference.memory(),
+                STEPS,
+                |st, memory| step(m, st, memory),
+                |st, memory| step(&reference, st, memory),
+            );
             let name = case::<S, N, R>(preset, &m.label());
             println!("{name}: worst {worst:.1e}");
+            // Where U is not quadratic Gonzalez's correction is more than rounding, and its
+            // cancellation sets DD's floor: 9.7·10⁻¹⁴ on `anharmonic_cvt`/rotating, the same
+            // with the default rule tightened to tol = 10⁻¹⁶, so round-off, not the rule.
+            let tol = if m.info().id == "dd" && !S::QUADRATIC_PASSENGER { DD_FLOOR } else { TOL };
             assert!(
-                worst <= TOL,
+                worst <= tol,
                 "{name}: the default rule stopped {worst:e} from the converged step"
             );
         }
@@ -65,6 +83,5 @@ fn stops_where_iterating_on_would<S: System<N, R>, const N: usize, const R: usiz
 
 #[test]
 fn the_stopping_rule_stops_at_the_converged_step() {
-    common::assert_typed_list_matches_registry();
     nhlab_core::for_each_system!(stops_where_iterating_on_would);
 }

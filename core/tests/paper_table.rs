@@ -1,4 +1,4 @@
-//! The paper's acceptance table (MATH.md §6), measured with the documented criterion of
+//! The paper's acceptance table (`docs/model.md` §6), measured with the documented criterion of
 //! `nhlab_core::classify` (exact / bounded / drift) on the six paper scenes × five methods.
 //!
 //! One disagreement with the paper, asserted as measured: the paper says DD drifts in every

@@ -11,18 +11,18 @@
 //!
 //! Where V is quadratic (the knife edge, `cvt`, `particle`, the rolling disk) the AVF gradient
 //! is `∇V(q̄)`, Gonzalez's without its correction, so DD-AVF is DD there and takes DD's step in
-//! closed form, ended in double-double ([`exact_energy`](super::exact_energy)): H stays at
+//! closed form, ended in double-double ([`closed_form`](super::dd::closed_form)): H stays at
 //! round-off however long the run. Elsewhere it solves `(q̇₁, λ)` by Newton (`dd`'s
-//! `discrete_derivative_step`). A coupled split (the driver's row alone, then the passenger
-//! by one division) measured 1.0–1.8× the general solve (`docs/benchmarks-history.md`,
-//! 2026-11-25), short of the 2× issue 4 asks of a fast path, and was removed.
+//! `discrete_derivative_step`). A coupled split (the driver's row alone, then the passenger by one
+//! division) was removed: it was less than 2× faster than the general solve, the least a fast path
+//! must gain (`docs/performance.md`).
 
-use super::dd::discrete_derivative_step;
-use super::exact_energy;
-use crate::angle_tracker::AngleTracker;
-use crate::method::{Integrator, MethodInfo};
-use crate::newton::NewtonConfig;
-use crate::system::{DriverTerms, System};
+use super::dd::step::discrete_derivative_step;
+use super::dd::{DdMemory, closed_form};
+use crate::solver::angle_tracker::AngleTracker;
+use crate::methods::integrator::{Integrator, MethodInfo};
+use crate::solver::newton::NewtonConfig;
+use crate::model::system::{DriverTerms, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector};
 
 /// The discrete-derivative method with the AVF discrete gradient.
@@ -31,7 +31,7 @@ pub struct DdAvf {
     /// Newton's settings.
     pub newton: NewtonConfig,
     /// Where V is quadratic, take DD's step in closed form ended in double-double
-    /// (`exact_energy`: the same equations there, H at round-off); `false` forces the general
+    /// (`dd::closed_form`: the same equations there, H at round-off); `false` forces the general
     /// Newton solve in `(q̇₁, λ)`, which it is tested against.
     pub fast_path: bool,
 }
@@ -121,11 +121,15 @@ fn avf_driver_mean<S: System<N, R>, const N: usize, const R: usize>(
 }
 
 impl Integrator for DdAvf {
+    type Memory<const N: usize, const R: usize> = DdMemory<N, R>;
     fn info() -> &'static MethodInfo {
         &INFO
     }
     fn from_params(_params: &[f64]) -> Result<Self, InputError> {
         Ok(Self::default())
+    }
+    fn general_path(&self) -> Option<Self> {
+        Some(Self { fast_path: false, ..*self })
     }
     fn label(&self) -> String {
         "DD-AVF".into()
@@ -135,18 +139,19 @@ impl Integrator for DdAvf {
         &self,
         sys: &S,
         st: &mut State<N, R>,
+        mem: &mut DdMemory<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
-        if self.fast_path && exact_energy::applies::<S, N, R>() {
-            return exact_energy::step(sys, st, h);
+        if self.fast_path && closed_form::applies::<S, N, R>() {
+            return closed_form::step(sys, st, mem, h);
         }
         let q0 = st.q;
-        let vd0 = st.driver_potential_and_constraint(sys).0;
+        let vd0 = mem.end.driver_potential_and_constraint(sys, st).0;
         let gradient = |dq: &Vector<N>, mid: &DriverTerms<N, R>, end: &mut AngleTracker| {
             // dq₁/dq̇₁ = (h/2) I.
             let (grad, jac) = avf_gradient(sys, (&q0, vd0), dq, mid, end);
             (grad, jac * (0.5 * h))
         };
-        discrete_derivative_step(sys, st, h, &self.newton, true, gradient)
+        discrete_derivative_step(sys, st, mem, h, &self.newton, true, gradient)
     }
 }

@@ -9,12 +9,14 @@
 //! affine, the passenger's update is one linear saddle solve. Same equations, same result to
 //! round-off, without the N×N Newton iterations.
 
-use crate::angle_tracker::AngleTracker;
-use crate::method::{Integrator, MethodInfo};
-use crate::methods::coupled_fast_path;
-use crate::newton::{Linearization, NewtonConfig, solve};
-use crate::system::{ParamSpec, System};
-use crate::{InputError, Matrix, State, StepFailure, Vector, linalg};
+use crate::solver::angle_tracker::AngleTracker;
+use crate::methods::integrator::{Integrator, MethodInfo};
+use crate::methods::memory::EndOfStep;
+use crate::methods::coupled::coupled_fast_path;
+use crate::solver::newton::{Linearization, NewtonConfig, solve};
+use crate::model::system::{ParamSpec, System};
+use crate::{InputError, Matrix, State, StepFailure, Vector};
+use crate::solver::linalg;
 
 /// DLA^α.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -52,6 +54,7 @@ static INFO: MethodInfo = MethodInfo {
 };
 
 impl Integrator for Dla {
+    type Memory<const N: usize, const R: usize> = EndOfStep<N, R>;
     fn info() -> &'static MethodInfo {
         &INFO
     }
@@ -60,6 +63,9 @@ impl Integrator for Dla {
     }
     fn params(&self) -> Vec<f64> {
         vec![self.alpha]
+    }
+    fn general_path(&self) -> Option<Self> {
+        Some(Self { fast_path: false, ..*self })
     }
     fn order(&self) -> u32 {
         if self.alpha == 0.5 { 2 } else { 1 }
@@ -72,15 +78,16 @@ impl Integrator for Dla {
         &self,
         sys: &S,
         st: &mut State<N, R>,
+        mem: &mut Self::Memory<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
         let a = self.alpha;
         let q_a = st.q + (1.0 - a) * h * st.v;
         let a_qa = sys.constraint(q_a[N - 1]);
-        let g0 = st.gradient(sys);
+        let g0 = mem.gradient(sys, st);
         let v0 = st.v;
         if self.fast_path && coupled_fast_path::<S, N, R>() {
-            return self.step_coupled(sys, st, h, q_a, &a_qa, &g0);
+            return self.step_coupled(sys, st, mem, h, q_a, &a_qa, &g0);
         }
         let g = a_qa.transpose() * (-h);
         // Explicit Euler guess; Newton then needs a few iterations.
@@ -103,7 +110,7 @@ impl Integrator for Dla {
                 g,
                 c,
                 b_maybe_bordered: true,
-                affine_but_for_the_driver: true,
+                affine_but_for_the_driver: S::QUADRATIC_PASSENGER,
             }
         })?;
         st.advance_to((1.0 - a) * h * st.v + a * h * v1, v1);
@@ -111,7 +118,7 @@ impl Integrator for Dla {
         // What the next step and the integrals need at q₁, one Newton increment from the
         // tracker's last iterate: a rotation, where evaluating would call `sin_cos`.
         let at_q1 = tracker.terms(sys, st.q[N - 1]);
-        st.remember_at_end(at_q1.constraint, at_q1.potential, at_q1.potential_d1);
+        mem.remember(st, at_q1.constraint, at_q1.potential, at_q1.potential_d1);
         Ok(())
     }
 }
@@ -120,10 +127,12 @@ impl Dla {
     /// The coupled fast path (see the module's doc), where [`coupled_fast_path`] holds:
     /// `q_a`, `A(q_a)` and `∇V(q₀)` as the general path computes them.
     #[inline]
+    #[allow(clippy::too_many_arguments, reason = "what the general path computed, passed on")]
     fn step_coupled<S: System<N, R>, const N: usize, const R: usize>(
         &self,
         sys: &S,
         st: &mut State<N, R>,
+        mem: &mut EndOfStep<N, R>,
         h: f64,
         q_a: Vector<N>,
         a_qa: &Matrix<R, N>,
@@ -164,7 +173,8 @@ impl Dla {
         st.lambda = lambda;
         // What the next step starts from and the integrals need, at ζ₁ as the state holds it.
         let zeta = st.q[N - 1];
-        st.remember_at_end(
+        mem.remember(
+            st,
             sys.constraint(zeta),
             sys.driver_potential(zeta),
             sys.driver_potential_d1(zeta),

@@ -8,12 +8,14 @@
 //! follows from one R×R solve — the step becomes explicit, with the same result as Newton's
 //! to round-off.
 
-use crate::angle_tracker::AngleTracker;
-use crate::method::{Integrator, MethodInfo};
-use crate::methods::coupled_fast_path;
-use crate::newton::{Linearization, NewtonConfig, solve};
-use crate::system::{System, constraint_force};
-use crate::{InputError, Matrix, State, StepFailure, linalg};
+use crate::solver::angle_tracker::AngleTracker;
+use crate::methods::integrator::{Integrator, MethodInfo};
+use crate::methods::memory::EndOfStep;
+use crate::methods::coupled::coupled_fast_path;
+use crate::solver::newton::{Linearization, NewtonConfig, solve};
+use crate::model::system::{System, constraint_force};
+use crate::{InputError, Matrix, State, StepFailure};
+use crate::solver::linalg;
 
 /// DLA^{0,1}.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -42,11 +44,15 @@ static INFO: MethodInfo = MethodInfo {
 };
 
 impl Integrator for Dla01 {
+    type Memory<const N: usize, const R: usize> = EndOfStep<N, R>;
     fn info() -> &'static MethodInfo {
         &INFO
     }
     fn from_params(_params: &[f64]) -> Result<Self, InputError> {
         Ok(Self::default())
+    }
+    fn general_path(&self) -> Option<Self> {
+        Some(Self { fast_path: false, ..*self })
     }
     fn label(&self) -> String {
         "DLA^{0,1}".into()
@@ -57,6 +63,7 @@ impl Integrator for Dla01 {
         &self,
         sys: &S,
         st: &mut State<N, R>,
+        mem: &mut Self::Memory<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
         let q_half = st.q + 0.5 * h * st.v;
@@ -79,7 +86,7 @@ impl Integrator for Dla01 {
             st.advance(h * st.v + (0.5 * h) * dv, dv);
             st.lambda = lambda;
             if st.q[N - 1] == z1 {
-                st.remember_at_end(a1, v_d1, d1);
+                mem.remember(st, a1, v_d1, d1);
             }
             return Ok(());
         }
@@ -110,7 +117,7 @@ impl Integrator for Dla01 {
         // What the integrals need at q₁, one Newton increment from the tracker's last iterate:
         // a rotation, where evaluating would call `sin_cos`.
         let at_q1 = tracker.terms(sys, st.q[N - 1]);
-        st.remember_at_end(at_q1.constraint, at_q1.potential, at_q1.potential_d1);
+        mem.remember(st, at_q1.constraint, at_q1.potential, at_q1.potential_d1);
         Ok(())
     }
 }

@@ -1,11 +1,12 @@
 //! `leapfrog`: the nonholonomic leap-frog (McLachlan–Perlmutter) in velocity-Verlet form.
 //!
 //! Explicit up to an R×R linear solve for the new multiplier; `λ₀` is carried from the
-//! previous step (MATH.md §3, corrections 2 and 6).
+//! previous step (`docs/model.md` §3, corrections 2 and 6).
 
-use crate::linalg;
-use crate::method::{Integrator, MethodInfo};
-use crate::system::{System, constraint_force};
+use crate::solver::linalg;
+use crate::methods::integrator::{Integrator, MethodInfo};
+use crate::methods::memory::EndOfStep;
+use crate::model::system::{System, constraint_force};
 use crate::{InputError, State, StepFailure, Vector};
 
 /// Nonholonomic leap-frog (no parameters).
@@ -22,6 +23,7 @@ static INFO: MethodInfo = MethodInfo {
 };
 
 impl Integrator for Leapfrog {
+    type Memory<const N: usize, const R: usize> = EndOfStep<N, R>;
     fn info() -> &'static MethodInfo {
         &INFO
     }
@@ -37,9 +39,10 @@ impl Integrator for Leapfrog {
         &self,
         sys: &S,
         st: &mut State<N, R>,
+        mem: &mut Self::Memory<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
-        let (g0, a0) = st.gradient_and_constraint(sys);
+        let (g0, a0) = mem.gradient_and_constraint(sys, st);
         let dv_half = 0.5 * h * (constraint_force(&a0, &st.lambda) - g0);
         let v_half = st.v + dv_half;
         // q₁ = q₀ + h q̇₀ + h Δq̇_½: q̇₀ enters last, as it is what the previous step just made.
@@ -64,7 +67,7 @@ impl Integrator for Leapfrog {
         }
         st.advance_v_parts(kick, dv_half);
         st.lambda = lambda1;
-        st.remember_at_end(a1, sys.driver_potential(q1[N - 1]), g1[N - 1]);
+        mem.remember(st, a1, sys.driver_potential(q1[N - 1]), g1[N - 1]);
         Ok(())
     }
 }

@@ -1,16 +1,44 @@
 //! `rk4`: the classical Runge–Kutta method on the constrained ODE with the multiplier
-//! eliminated (MATH.md §1) — the non-geometric baseline users compare against.
+//! eliminated (`docs/model.md` §1) — the non-geometric baseline users compare against.
 //!
 //! Fourth order, explicit, neither reversible nor constraint-preserving: it drifts off the
 //! constraint manifold, which the `constraint` series shows.
 
-use crate::method::{Integrator, MethodInfo};
-use crate::system::{System, constraint_force};
+use crate::methods::integrator::{Integrator, MethodInfo};
+use crate::methods::memory::{AccelerationAtEnd, EndOfStep, Memory, Recall};
+use crate::{Matrix, Vector};
+use crate::model::system::{System, constraint_force};
 use crate::{InputError, State, StepFailure};
 
 /// Classical RK4 (no parameters).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Rk4;
+
+/// RK4's memory: the acceleration its last stage ended with (first same as last) and the
+/// driver's terms there, for the integrals.
+#[derive(Debug, Clone, Copy)]
+pub struct Rk4Memory<const N: usize, const R: usize> {
+    pub(crate) acceleration: AccelerationAtEnd<N>,
+    pub(crate) end: EndOfStep<N, R>,
+}
+
+impl<const N: usize, const R: usize> Memory<N, R> for Rk4Memory<N, R> {
+    fn empty() -> Self {
+        Self { acceleration: AccelerationAtEnd::empty(), end: EndOfStep::empty() }
+    }
+}
+
+impl<const N: usize, const R: usize> Recall<N, R> for Rk4Memory<N, R> {
+    #[inline]
+    fn driver_terms_at(&self, zeta: f64) -> Option<(f64, Matrix<R, N>)> {
+        self.end.driver_terms_at(zeta)
+    }
+    #[inline]
+    fn moved(&mut self, from: &Vector<N>, to: &Vector<N>) {
+        self.acceleration.moved(from, to);
+        self.end.moved(from, to);
+    }
+}
 
 static INFO: MethodInfo = MethodInfo {
     id: "rk4",
@@ -22,6 +50,7 @@ static INFO: MethodInfo = MethodInfo {
 };
 
 impl Integrator for Rk4 {
+    type Memory<const N: usize, const R: usize> = Rk4Memory<N, R>;
     fn info() -> &'static MethodInfo {
         &INFO
     }
@@ -36,12 +65,13 @@ impl Integrator for Rk4 {
         &self,
         sys: &S,
         st: &mut State<N, R>,
+        mem: &mut Self::Memory<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
         let f = |q, v| sys.acceleration(&q, &v).map(|(a, _)| a).ok_or(StepFailure::Singular);
         let (q0, v0) = (st.q, st.v);
         // First same as last: the previous step ended with q̈ here.
-        let a1 = match st.acceleration() {
+        let a1 = match mem.acceleration.at(st) {
             Some(a) => a,
             None => f(q0, v0)?,
         };
@@ -62,8 +92,8 @@ impl Integrator for Rk4 {
         let lambda = sys.continuous_multiplier_with(&q1, &v1, &g, &a);
         let v_d = sys.driver_potential(zeta);
         st.lambda = lambda.ok_or(StepFailure::Singular)?;
-        st.remember_acceleration(constraint_force(&a, &st.lambda) - g);
-        st.remember_at_end(a, v_d, g[N - 1]);
+        mem.acceleration.remember(st, constraint_force(&a, &st.lambda) - g);
+        mem.end.remember(st, a, v_d, g[N - 1]);
         Ok(())
     }
 }

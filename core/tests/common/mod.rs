@@ -1,8 +1,8 @@
-//! Shared test helpers: the typed list of systems (checked against the registry, so a new
-//! system cannot be forgotten here) and typed access to presets.
+//! Shared test helpers: `for_each_system!` callable unqualified, typed access to presets, and
+//! the comparison of one step of two methods from the same state.
 #![allow(dead_code)] // each test file uses a different subset
 
-use nhlab_core::{SYSTEMS, State, System, Vector};
+use nhlab_core::{State, System, Vector};
 
 /// `nhlab_core::for_each_system!`, callable unqualified from every test file.
 #[macro_export]
@@ -10,16 +10,6 @@ macro_rules! for_each_system {
     ($($t:tt)*) => {
         nhlab_core::for_each_system!($($t)*)
     };
-}
-
-/// The ids the macro above covers, in registry order.
-pub const TYPED_IDS: [&str; 6] =
-    ["knife_edge", "cvt_pendulum", "cvt", "particle", "rolling_disk", "mobile_robot"];
-
-/// Panics unless the typed list matches the registry.
-pub fn assert_typed_list_matches_registry() {
-    let ids: Vec<&str> = SYSTEMS.iter().map(|s| s.info().id).collect();
-    assert_eq!(ids, TYPED_IDS, "update for_each_system! in core/src/registry.rs");
 }
 
 /// The size of a state (max norm of q, q̇ and λ, at least 1), to compare steps relative to.
@@ -44,20 +34,23 @@ pub fn step_difference<const N: usize, const R: usize>(a: &State<N, R>, b: &Stat
 
 /// The largest [`step_difference`] between one step of `a` and one of `b` from each of `steps`
 /// states of `b`'s trajectory from `start`. Steps are compared one at a time from the same
-/// state, not as whole trajectories, whose sensitivity would amplify round-off.
-pub fn worst_step_difference<const N: usize, const R: usize>(
+/// state, not as whole trajectories, whose sensitivity would amplify round-off. Each step
+/// starts from the state with the memory `b`'s last step left (`memory` at the start): both
+/// get a copy of the pair, and the trajectory carries `b`'s.
+pub fn worst_step_difference<M: Copy, const N: usize, const R: usize>(
     start: State<N, R>,
+    memory: M,
     steps: usize,
-    mut a: impl FnMut(&mut State<N, R>),
-    mut b: impl FnMut(&mut State<N, R>),
+    mut a: impl FnMut(&mut State<N, R>, &mut M),
+    mut b: impl FnMut(&mut State<N, R>, &mut M),
 ) -> f64 {
-    let (mut st, mut worst) = (start, 0.0_f64);
+    let (mut st, mut mem, mut worst) = (start, memory, 0.0_f64);
     for _ in 0..steps {
-        let (mut x, mut y) = (st, st);
-        a(&mut x);
-        b(&mut y);
+        let ((mut x, mut x_mem), (mut y, mut y_mem)) = ((st, mem), (st, mem));
+        a(&mut x, &mut x_mem);
+        b(&mut y, &mut y_mem);
         worst = worst.max(step_difference(&x, &y));
-        st = y;
+        (st, mem) = (y, y_mem);
     }
     worst
 }

@@ -1,0 +1,137 @@
+//! Reference solutions: the constrained ODE with the multiplier eliminated (`docs/model.md` §1),
+//! `q̈ = −∇V + Aᵀλ(q, q̇)`, solved by Dop853 (ode_solvers) at a tight tolerance.
+//!
+//! The reference is what work–precision diagrams measure errors against; its own accuracy is
+//! tested against the exact knife-edge solution and by tolerance halving. It drifts off the
+//! constraint like any non-geometric method, so its constraint residual is reported with it.
+//!
+//! Where ζ is an angle ([`System::ZETA_IS_ANGLE`]) the solve restarts every [`SEGMENT`] time
+//! units with ζ brought back near 0 by whole turns (counted, and added back at the end). A
+//! rotating driver otherwise reaches ζ ≈ 7000 on the paper's rotating CVT: each step then
+//! rounds ζ to 10⁻¹², and a relative tolerance on ζ lets 10⁻⁹ per step through; together
+//! they held the reference at ~10⁻⁷ at t = 3000, where this one agrees with tighter solves to
+//! ~10⁻⁹ (`core/tests/reference.rs`).
+
+use crate::Vector;
+use crate::model::system::System;
+use nalgebra::DVector;
+use ode_solvers::dop_shared::OutputType;
+use ode_solvers::dop853::Dop853;
+use std::f64::consts::TAU;
+
+/// Default relative and absolute tolerance.
+pub const TOL: f64 = 1e-15;
+
+/// Time between restarts that bring an angle ζ back near 0.
+pub const SEGMENT: f64 = 1.0;
+
+/// Most Dop853 steps per reference solve (a few seconds): beyond, the solve fails rather
+/// than hold a thread.
+pub const MAX_STEPS: u32 = 2_000_000;
+
+/// Why a reference solve failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ReferenceError {
+    /// Dop853 gave up (step size underflow, too many steps, stiffness).
+    #[error("reference solve failed: {0}")]
+    Solver(String),
+    /// The solution became non-finite.
+    #[error("reference solve diverged")]
+    Diverged,
+}
+
+/// A reference solution at `t_end`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reference<const N: usize> {
+    /// Configuration at t_end.
+    pub q: Vector<N>,
+    /// Velocity at t_end.
+    pub v: Vector<N>,
+    /// Constraint residual `|A(q) q̇|` at t_end.
+    pub constraint_residual: f64,
+    /// Right-hand-side evaluations.
+    pub evaluations: u32,
+    /// Accepted steps.
+    pub steps: u32,
+}
+
+struct Ode<'a, S, const N: usize, const R: usize> {
+    sys: &'a S,
+}
+
+impl<S: System<N, R>, const N: usize, const R: usize> ode_solvers::System<f64, DVector<f64>>
+    for Ode<'_, S, N, R>
+{
+    fn system(&self, _t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
+        let q = Vector::<N>::from_fn(|i, _| y[i]);
+        let v = Vector::<N>::from_fn(|i, _| y[N + i]);
+        // A singular A Aᵀ cannot occur for the registered systems (full row rank); NaN makes
+        // the solver fail loudly rather than return a wrong reference.
+        let a = self.sys.acceleration(&q, &v).map_or(Vector::<N>::repeat(f64::NAN), |(a, _)| a);
+        for i in 0..N {
+            dy[i] = v[i];
+            dy[N + i] = a[i];
+        }
+    }
+}
+
+/// Solves from `(q, v)` at t = 0 to `t_end` with relative and absolute tolerance `tol`.
+pub fn reference<S: System<N, R>, const N: usize, const R: usize>(
+    sys: &S,
+    q: &Vector<N>,
+    v: &Vector<N>,
+    t_end: f64,
+    tol: f64,
+) -> Result<Reference<N>, ReferenceError> {
+    let mut y = DVector::from_iterator(2 * N, q.iter().chain(v.iter()).copied());
+    let (mut t, mut turns, mut evaluations, mut steps) = (0.0, 0.0, 0, 0);
+    while t < t_end {
+        let t1 = if S::ZETA_IS_ANGLE { (t + SEGMENT).min(t_end) } else { t_end };
+        let budget = MAX_STEPS.saturating_sub(steps);
+        if budget == 0 {
+            return Err(ReferenceError::Solver(format!(
+                "more than {MAX_STEPS} steps needed (stopped at t = {t})"
+            )));
+        }
+        let mut solver = Dop853::from_param(
+            Ode::<S, N, R> { sys },
+            t,
+            t1,
+            t1 - t,
+            y,
+            tol,
+            tol,
+            // ode_solvers' defaults: safety factor, β, step-ratio bounds, h_max, initial h.
+            0.9,
+            0.0,
+            0.333,
+            6.0,
+            t1 - t,
+            0.0,
+            budget,
+            1000,
+            OutputType::Sparse,
+        );
+        let stats = solver.integrate().map_err(|e| ReferenceError::Solver(e.to_string()))?;
+        (evaluations, steps) = (evaluations + stats.num_eval, steps + stats.accepted_steps);
+        y = solver.y_out().last().cloned().unwrap_or_default();
+        if y.len() != 2 * N || y.iter().any(|x| !x.is_finite()) {
+            return Err(ReferenceError::Diverged);
+        }
+        if S::ZETA_IS_ANGLE {
+            let k = (y[N - 1] / TAU).round();
+            y[N - 1] -= k * TAU;
+            turns += k;
+        }
+        t = t1;
+    }
+    y[N - 1] += turns * TAU;
+    let (qe, ve) = (Vector::<N>::from_fn(|i, _| y[i]), Vector::<N>::from_fn(|i, _| y[N + i]));
+    Ok(Reference {
+        q: qe,
+        v: ve,
+        constraint_residual: sys.constraint_residual(&qe, &ve),
+        evaluations,
+        steps,
+    })
+}

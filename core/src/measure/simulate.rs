@@ -1,0 +1,226 @@
+//! The driver: runs one method on one problem and streams the downsampled error series to
+//! an [`Observer`], without storing the trajectory (memory is O(points), whatever the
+//! number of steps).
+//!
+//! Problem / algorithm / solve, as in OrdinaryDiffEq: a [`Problem`] holds the system, the
+//! start and what to measure, the method is a small config struct, [`run`] owns the loop.
+//! Only the integrals asked for are evaluated. A step that fails or produces a non-finite
+//! number ends the run with a [`RunError`] naming the step and time; the buckets completed
+//! by then have already been handed over.
+
+use crate::measure::bucket::Lanes;
+use crate::measure::latitude::{LatitudeAxis, LatitudeTracker};
+use crate::methods::integrator::Integrator;
+use crate::methods::memory::{Memory, Recall, driver_potential_and_constraint};
+use crate::model::system::System;
+use crate::{Bucket, Bucketer, Integral, RunError, State, StepFailure};
+use std::ops::ControlFlow;
+
+/// Watches a run (argmin-style observer): receives completed buckets and progress, and may
+/// stop the run.
+pub trait Observer {
+    /// The initial value `I(0)` of a series, before any bucket (the verdict's scale).
+    fn initial(&mut self, _integral: Integral, _value: f64) {}
+    /// A completed bucket of one integral's error series.
+    fn points(&mut self, integral: Integral, bucket: Bucket);
+    /// The final state of a run that reached t_end (work–precision measures it).
+    fn finish(&mut self, _q: &[f64], _v: &[f64]) {}
+    /// Called every [`RunConfig::progress_every`] steps; `Break` cancels the run.
+    fn progress(&mut self, _steps_done: u64, _t: f64) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+}
+
+/// An observer that collects every series in memory (tests, JSON responses).
+#[derive(Debug, Clone, Default)]
+pub struct Collect {
+    /// Buckets per integral, in arrival order.
+    pub series: std::collections::BTreeMap<Integral, Vec<Bucket>>,
+    /// `I(0)` per integral.
+    pub initial: std::collections::BTreeMap<Integral, f64>,
+}
+
+impl Observer for Collect {
+    fn initial(&mut self, integral: Integral, value: f64) {
+        self.initial.insert(integral, value);
+    }
+    fn points(&mut self, integral: Integral, bucket: Bucket) {
+        self.series.entry(integral).or_default().push(bucket);
+    }
+}
+
+/// How a run reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunConfig {
+    /// Buckets per series.
+    pub points: usize,
+    /// Steps between progress calls.
+    pub progress_every: u64,
+}
+
+impl Default for RunConfig {
+    fn default() -> Self {
+        Self { points: 1000, progress_every: 4096 }
+    }
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOutcome {
+    /// Steps completed.
+    pub steps: u64,
+    /// Why it ended early, if it did.
+    pub error: Option<RunError>,
+}
+
+/// What to integrate and what to measure.
+#[derive(Debug, Clone)]
+pub struct Problem<'a, S, const N: usize, const R: usize> {
+    /// The system.
+    pub sys: &'a S,
+    /// Initial state (with the continuous multiplier).
+    pub start: State<N, R>,
+    /// Step size h.
+    pub step: f64,
+    /// Number of steps.
+    pub steps: u64,
+    /// Integrals whose error series are wanted.
+    pub integrals: &'a [Integral],
+    /// The monodromy axis, when the latitude is wanted.
+    pub latitude: Option<LatitudeAxis>,
+}
+
+/// A state beyond this size has lost every digit that matters: the run has diverged.
+pub const DIVERGED: f64 = 1e100;
+
+/// The values of the step integrals at one state. The two energies are evaluated once and
+/// H = E + h derived, so asking for all three costs one potential evaluation, not three.
+#[inline]
+fn values<S: System<N, R>, M: Recall<N, R>, const N: usize, const R: usize>(
+    sys: &S,
+    st: &State<N, R>,
+    memory: &M,
+    energies: bool,
+    constraint: bool,
+) -> [f64; 4] {
+    if !energies && !constraint {
+        return [0.0; 4];
+    }
+    // V_d(ζ) and A(ζ) together (one sin/cos), or as the step remembered them.
+    let (v_d, a) = driver_potential_and_constraint(memory, sys, st);
+    let zeta_dot = st.v[N - 1];
+    let (e, h) = (sys.passenger_energy(&st.q, &st.v), 0.5 * zeta_dot * zeta_dot + v_d);
+    let c = if constraint { (a * st.v).norm() } else { 0.0 };
+    [e + h, e, h, c]
+}
+
+#[inline]
+fn index_of(integral: Integral) -> usize {
+    match integral {
+        Integral::Energy => 0,
+        Integral::PassengerEnergy => 1,
+        Integral::DriverEnergy => 2,
+        Integral::Constraint | Integral::Latitude => 3,
+    }
+}
+
+/// Runs `method` on `problem`, streaming to `observer`.
+pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
+    problem: &Problem<'_, S, N, R>,
+    method: &M,
+    cfg: &RunConfig,
+    observer: &mut dyn Observer,
+) -> RunOutcome {
+    let (sys, h) = (problem.sys, problem.step);
+    let mut st = problem.start;
+    let mut memory = M::Memory::<N, R>::empty();
+    // Where ζ is an angle the state keeps it within a turn, and counts the turns taken off
+    // here, for what needs ζ as the run started it (the latitude's sections, the final state).
+    let take_turns = |st: &mut State<N, R>, memory: &mut M::Memory<N, R>| {
+        if S::ZETA_IS_ANGLE { st.take_whole_turns(memory) } else { 0.0 }
+    };
+    let mut turns = take_turns(&mut st, &mut memory);
+    let energies = problem.integrals.iter().any(|&i| index_of(i) < 3);
+    let constraint = problem.integrals.contains(&Integral::Constraint);
+    let v0 = values(sys, &st, &memory, energies, constraint);
+    // The four step integrals share every sample time: one set of lanes buckets them all
+    // (lanes not asked for carry zeros), and the series asked for read their lane.
+    let mut initial = v0;
+    // The constraint residual is reported as is: its ideal value is 0, not its start.
+    initial[index_of(Integral::Constraint)] = 0.0;
+    let series: Vec<(Integral, usize)> = problem
+        .integrals
+        .iter()
+        .filter(|&&i| i != Integral::Latitude)
+        .map(|&i| (i, index_of(i)))
+        .collect();
+    for &(integral, lane) in &series {
+        observer.initial(integral, initial[lane]);
+    }
+    let mut lanes = Lanes::<4>::new(problem.steps, cfg.points);
+    let mut latitude =
+        problem.latitude.filter(|_| problem.integrals.contains(&Integral::Latitude)).map(|axis| {
+            observer.initial(Integral::Latitude, axis.latitude0);
+            let planned = axis.crossings_until(problem.steps as f64 * h);
+            let tracker = LatitudeTracker::new(axis, &problem.start.q, &problem.start.v);
+            (tracker, Bucketer::new(planned, cfg.points))
+        });
+    let every = cfg.progress_every.max(1);
+    // A countdown rather than `k % every`: no division per step.
+    let mut next_progress = every;
+    for k in 1..=problem.steps {
+        let t0 = (k - 1) as f64 * h;
+        let failed = |failure| RunOutcome {
+            steps: k - 1,
+            error: Some(RunError::Step { step: k, t: t0, failure }),
+        };
+        if let Err(failure) = method.step(sys, &mut st, &mut memory, h) {
+            return failed(failure);
+        }
+        // One test catches NaN, infinity and blow-up.
+        let size = st.q.norm_squared() + st.v.norm_squared() + st.lambda.norm_squared();
+        if size.is_nan() || size > DIVERGED * DIVERGED {
+            return failed(if size.is_nan() || !st.is_finite() {
+                StepFailure::NonFinite
+            } else {
+                StepFailure::Diverged { limit: DIVERGED }
+            });
+        }
+        turns += take_turns(&mut st, &mut memory);
+        let t = k as f64 * h;
+        let now = values(sys, &st, &memory, energies, constraint);
+        // A potential can overflow where the state does not (a quartic U at |x| ~ 1e77).
+        if !(now[0] + now[3]).is_finite() {
+            return failed(StepFailure::NonFinite);
+        }
+        if let Some(b) = lanes.push(t, std::array::from_fn(|i| (now[i] - initial[i]).abs())) {
+            for &(integral, lane) in &series {
+                observer.points(integral, b[lane]);
+            }
+        }
+        if let Some((tracker, buckets)) = latitude.as_mut()
+            && let Some((tc, e)) = tracker.observe(sys, t, &st.q_with_turns(turns), &st.v)
+            && let Some(b) = buckets.push(tc, e)
+        {
+            observer.points(Integral::Latitude, b);
+        }
+        if k == next_progress {
+            next_progress += every;
+            if observer.progress(k, t).is_break() {
+                return RunOutcome { steps: k, error: Some(RunError::Cancelled { step: k, t }) };
+            }
+        }
+    }
+    if let Some(b) = lanes.finish() {
+        for &(integral, lane) in &series {
+            observer.points(integral, b[lane]);
+        }
+    }
+    if let Some((_, buckets)) = latitude.as_mut()
+        && let Some(b) = buckets.finish()
+    {
+        observer.points(Integral::Latitude, b);
+    }
+    observer.finish(st.q_with_turns(turns).as_slice(), st.v.as_slice());
+    RunOutcome { steps: problem.steps, error: None }
+}

@@ -1,0 +1,124 @@
+//! Work–precision measurements (after DiffEqDevTools' WorkPrecisionSet): for each method and step,
+//! what a run costs (the minimum wall time of a few repetitions, so a short run is not timed by
+//! noise) and what it buys — the final error in (q, q̇) against the Dop853 reference at t_end, and
+//! the largest error of each integral. A caller that must be able to stop (a server whose client
+//! went away) passes a `stop` flag to [`measure_until`], looked at every few thousand steps and
+//! between repetitions.
+
+use crate::catalogue::registry::ReferenceState;
+use crate::measure::reference::{ReferenceError, TOL};
+use crate::{Bucket, Integral, Method, Observer, PreparedScene, RunConfig};
+use std::collections::BTreeMap;
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+/// One method at one step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// The method.
+    pub method: Method,
+    /// Step size.
+    pub step: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Minimum wall time over the repetitions, in milliseconds.
+    pub elapsed_ms: f64,
+    /// `‖(q, q̇)(t_end) − reference‖∞`, `None` when the run failed.
+    pub final_error: Option<f64>,
+    /// Largest `|I − I(0)|` of each integral.
+    pub max_error: BTreeMap<Integral, f64>,
+    /// Why the run failed, if it did.
+    pub error: Option<String>,
+}
+
+/// The reference and its cost.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReferenceSummary {
+    /// The solution at t_end.
+    pub state: ReferenceState,
+    /// Its wall time, in milliseconds.
+    pub elapsed_ms: f64,
+}
+
+struct Watch<'a> {
+    max: BTreeMap<Integral, f64>,
+    end: Option<(Vec<f64>, Vec<f64>)>,
+    stop: &'a dyn Fn() -> bool,
+}
+
+impl Observer for Watch<'_> {
+    fn points(&mut self, integral: Integral, bucket: Bucket) {
+        let m = self.max.entry(integral).or_insert(0.0);
+        *m = m.max(bucket.max);
+    }
+    fn finish(&mut self, q: &[f64], v: &[f64]) {
+        self.end = Some((q.to_vec(), v.to_vec()));
+    }
+    fn progress(&mut self, _steps_done: u64, _t: f64) -> ControlFlow<()> {
+        if (self.stop)() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+    }
+}
+
+/// Solves the reference for `scene` (its t_end) once.
+pub fn reference(scene: &PreparedScene) -> Result<ReferenceSummary, ReferenceError> {
+    let t = Instant::now();
+    let state = scene.scene.reference(TOL)?;
+    Ok(ReferenceSummary { state, elapsed_ms: t.elapsed().as_secs_f64() * 1e3 })
+}
+
+/// Runs `method` on `scene` with a step near `step`, `reps` times (at least once), and
+/// measures it against `reference`. The step is rounded to `t_end / n` so that the run ends
+/// exactly at the reference's t_end; the row reports the step used.
+pub fn measure(
+    scene: &PreparedScene,
+    reference: &ReferenceState,
+    method: &Method,
+    step: f64,
+    reps: u32,
+) -> Row {
+    measure_until(scene, reference, method, step, reps, &|| false)
+}
+
+/// [`measure`], stopped when `stop()` turns true: the run in progress ends as cancelled
+/// (the row reports it failed, without a final error) and no further repetition starts.
+pub fn measure_until(
+    scene: &PreparedScene,
+    reference: &ReferenceState,
+    method: &Method,
+    step: f64,
+    reps: u32,
+    stop: &dyn Fn() -> bool,
+) -> Row {
+    let mut scene = scene.clone();
+    let t_end = scene.scene.t_end;
+    let step = t_end / (t_end / step).round().max(1.0);
+    scene.scene.step = step;
+    let cfg = RunConfig { points: 1, ..RunConfig::default() };
+    let mut best = f64::INFINITY;
+    let mut row = None;
+    for rep in 0..reps.max(1) {
+        if rep > 0 && stop() {
+            break;
+        }
+        let mut watch = Watch { max: BTreeMap::new(), end: None, stop };
+        let t = Instant::now();
+        let out = scene.run(method, &cfg, &mut watch);
+        best = best.min(t.elapsed().as_secs_f64() * 1e3);
+        row.get_or_insert((out, watch));
+    }
+    let (out, watch) = row.expect("the first repetition always runs");
+    let final_error = watch.end.as_ref().map(|(q, v)| {
+        let dq = q.iter().zip(&reference.q).map(|(a, b)| (a - b).abs());
+        let dv = v.iter().zip(&reference.v).map(|(a, b)| (a - b).abs());
+        dq.chain(dv).fold(0.0, f64::max)
+    });
+    Row {
+        method: *method,
+        step,
+        steps: out.steps,
+        elapsed_ms: best,
+        final_error,
+        max_error: watch.max,
+        error: out.error.map(|e| e.to_string()),
+    }
+}

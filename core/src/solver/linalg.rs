@@ -1,0 +1,214 @@
+//! Small dense LU with partial pivoting on fixed-size matrices.
+//!
+//! nalgebra's own `lu()` needs `DimMin` bounds that would leak into every generic
+//! signature of the integrators; this one works for any `const N` and stays on the stack.
+
+use crate::Matrix;
+
+/// LU factors of an N×N matrix (row permutation kept as indices).
+pub(crate) struct Lu<const N: usize> {
+    lu: Matrix<N, N>,
+    perm: [usize; N],
+}
+
+impl<const N: usize> Lu<N> {
+    /// Factorizes `a`; `None` when a pivot is zero or not finite (singular matrix).
+    #[inline]
+    pub(crate) fn new(mut a: Matrix<N, N>) -> Option<Self> {
+        let mut perm = [0; N];
+        for (i, p) in perm.iter_mut().enumerate() {
+            *p = i;
+        }
+        for k in 0..N {
+            let mut piv = k;
+            for i in k + 1..N {
+                if a[(i, k)].abs() > a[(piv, k)].abs() {
+                    piv = i;
+                }
+            }
+            let pivot = a[(piv, k)];
+            if pivot == 0.0 || !pivot.is_finite() {
+                return None;
+            }
+            if piv != k {
+                a.swap_rows(piv, k);
+                perm.swap(piv, k);
+            }
+            for i in k + 1..N {
+                let m = a[(i, k)] / a[(k, k)];
+                a[(i, k)] = m;
+                for j in k + 1..N {
+                    a[(i, j)] -= m * a[(k, j)];
+                }
+            }
+        }
+        Some(Self { lu: a, perm })
+    }
+
+    /// Solves `A X = B` for every column of `b`.
+    #[inline]
+    pub(crate) fn solve<const K: usize>(&self, b: &Matrix<N, K>) -> Matrix<N, K> {
+        let mut x = Matrix::<N, K>::zeros();
+        for (i, &p) in self.perm.iter().enumerate() {
+            x.set_row(i, &b.row(p));
+        }
+        for c in 0..K {
+            for i in 0..N {
+                let mut s = x[(i, c)];
+                for j in 0..i {
+                    s -= self.lu[(i, j)] * x[(j, c)];
+                }
+                x[(i, c)] = s;
+            }
+            for i in (0..N).rev() {
+                let mut s = x[(i, c)];
+                for j in i + 1..N {
+                    s -= self.lu[(i, j)] * x[(j, c)];
+                }
+                x[(i, c)] = s / self.lu[(i, i)];
+            }
+        }
+        x
+    }
+}
+
+/// nalgebra's closed-form inverse of the concrete `M×M` type, for a generic `N×N` that is
+/// known to have `N == M`.
+#[inline]
+fn closed_form<const N: usize, const M: usize>(a: &Matrix<N, N>) -> Option<Matrix<N, N>> {
+    let inv = nalgebra::SMatrix::<f64, M, M>::from_fn(|i, j| a[(i, j)]).try_inverse()?;
+    Some(Matrix::<N, N>::from_fn(|i, j| inv[(i, j)]))
+}
+
+/// `A⁻¹`: nalgebra's closed forms for N ≤ 4 (the matrices here are `I + O(h²)` and
+/// `h A Aᵀ`-like, well conditioned, and closed forms are several times cheaper than the loops
+/// of a pivoted LU), the LU above otherwise. `None` when `A` is singular.
+#[inline]
+pub(crate) fn inverse<const N: usize>(a: &Matrix<N, N>) -> Option<Matrix<N, N>> {
+    // N is a constant, so all but one arm compile away (and the conversions with them).
+    let m = match N {
+        1 => Some(Matrix::<N, N>::from_element(1.0 / a[(0, 0)])),
+        2 => closed_form::<N, 2>(a),
+        3 => closed_form::<N, 3>(a),
+        4 => closed_form::<N, 4>(a),
+        _ => Lu::new(*a).map(|lu| lu.solve(&Matrix::<N, N>::identity())),
+    }?;
+    m.iter().all(|v| v.is_finite()).then_some(m)
+}
+
+/// `(adj A, det A)` of a 3×3 matrix (`None` for other sizes), so that `A⁻¹ = adj A / det A`
+/// can be applied without waiting on the reciprocal: the saddle solve of Newton's iteration
+/// (`newton::saddle_increment`) multiplies by adj A while det A's reciprocal is computed, and
+/// its Schur equation needs no reciprocal of det A at all.
+#[inline]
+pub(crate) fn adjugate3<const N: usize>(a: &Matrix<N, N>) -> Option<(Matrix<N, N>, f64)> {
+    if N != 3 {
+        return None;
+    }
+    // adj A (i, j) is the cofactor (j, i): the 2×2 determinant of the rows and columns left
+    // when row j and column i are taken out, signed.
+    let minor = |(r0, r1): (usize, usize), (c0, c1): (usize, usize)| {
+        a[(r0, c0)] * a[(r1, c1)] - a[(r0, c1)] * a[(r1, c0)]
+    };
+    let others = [(1, 2), (0, 2), (0, 1)];
+    let adj = Matrix::<N, N>::from_fn(|i, j| {
+        let m = minor(others[j], others[i]);
+        if (i + j) % 2 == 0 { m } else { -m }
+    });
+    let det = a[(0, 0)] * adj[(0, 0)] + a[(0, 1)] * adj[(1, 0)] + a[(0, 2)] * adj[(2, 0)];
+    Some((adj, det))
+}
+
+/// `A⁻¹`, with a shortcut for `A` diagonal but for its last column, whose inverse has the
+/// same shape: N divisions, where a 4×4 closed form costs hundreds of flops. Newton's matrix
+/// `I + h ∂(∇̄V − A(q̄)ᵀλ)/∂q̇₁` has that shape wherever the discrete gradient's Jacobian is
+/// diagonal (as on every test system, unless DD's Gonzalez correction is not round-off),
+/// since q̇₁ moves A(q̄) through ζ̄ alone; so does DLA's `I + c∇²V` (with a zero last column).
+/// At 3×3 the shortcut costs more instructions than the closed form but is a shorter chain
+/// (independent divisions instead of determinant, reciprocal, products), which is what a
+/// Newton iteration waits on: DD's step on the knife edge is markedly faster for it.
+#[inline(always)] // else left out of line on the 4×4 paths, a call per solve
+pub(crate) fn inverse_maybe_bordered<const N: usize>(a: &Matrix<N, N>) -> Option<Matrix<N, N>> {
+    let bordered = (0..N - 1).all(|j| (0..N).all(|i| i == j || a[(i, j)] == 0.0));
+    if !bordered {
+        return inverse(a);
+    }
+    let d = a.diagonal().map(|x| 1.0 / x);
+    let mut inv = Matrix::<N, N>::from_diagonal(&d);
+    for i in 0..N - 1 {
+        inv[(i, N - 1)] = -a[(i, N - 1)] * d[i] * d[N - 1];
+    }
+    inv.iter().all(|v| v.is_finite()).then_some(inv)
+}
+
+/// Solves `A X = B` (see [`inverse`]).
+#[inline]
+pub(crate) fn solve<const N: usize, const K: usize>(
+    a: &Matrix<N, N>,
+    b: &Matrix<N, K>,
+) -> Option<Matrix<N, K>> {
+    inverse(a).map(|inv| inv * b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_adjugate_over_the_determinant_is_the_inverse() {
+        let a = Matrix::<3, 3>::new(0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 1.0);
+        let (adj, det) = adjugate3(&a).expect("3×3");
+        assert_eq!(det, -5.0);
+        assert!((adj * a - Matrix::<3, 3>::identity() * det).amax() < 1e-14, "{adj}");
+        assert!(adjugate3(&Matrix::<2, 2>::identity()).is_none());
+    }
+
+    #[test]
+    fn solves_a_pivoting_system() {
+        let a = Matrix::<3, 3>::new(0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 1.0);
+        let x = Matrix::<3, 1>::new(1.0, -2.0, 0.5);
+        let b = a * x;
+        let got = Lu::new(a).expect("regular").solve(&b);
+        assert!((got - x).amax() < 1e-14, "{got}");
+    }
+
+    #[test]
+    fn closed_forms_agree_with_lu() {
+        let a3 = Matrix::<3, 3>::new(1.1, 0.2, -0.3, 0.05, 0.9, 0.1, -0.2, 0.3, 1.3);
+        let b3 = Matrix::<3, 2>::new(1.0, 2.0, -1.0, 0.5, 0.25, 3.0);
+        let lu = Lu::new(a3).unwrap().solve(&b3);
+        assert!((solve(&a3, &b3).unwrap() - lu).amax() < 1e-14);
+        let a2 = Matrix::<2, 2>::new(2.0, 1.0, 0.5, 3.0);
+        let b2 = Matrix::<2, 1>::new(1.0, -1.0);
+        assert!((a2 * solve(&a2, &b2).unwrap() - b2).amax() < 1e-15);
+        let a4 =
+            Matrix::<4, 4>::from_fn(|i, j| if i == j { 2.0 } else { 0.1 * (i + 2 * j) as f64 });
+        let b4 = Matrix::<4, 1>::new(1.0, -2.0, 0.5, 3.0);
+        assert!((solve(&a4, &b4).unwrap() - Lu::new(a4).unwrap().solve(&b4)).amax() < 1e-14);
+        let a5 = Matrix::<5, 5>::identity() * 2.0;
+        assert_eq!(solve(&a5, &Matrix::<5, 1>::repeat(1.0)).unwrap(), Matrix::<5, 1>::repeat(0.5));
+        assert!(solve(&Matrix::<1, 1>::zeros(), &Matrix::<1, 1>::repeat(1.0)).is_none());
+    }
+
+    #[test]
+    fn bordered_inverse_is_the_inverse() {
+        let mut a = Matrix::<4, 4>::from_diagonal(&Matrix::<4, 1>::new(1.5, 0.5, 2.0, 4.0));
+        a.set_column(3, &Matrix::<4, 1>::new(0.3, -0.7, 0.2, 4.0));
+        let inv = inverse_maybe_bordered(&a).unwrap();
+        assert!((inv * a - Matrix::<4, 4>::identity()).amax() < 1e-15, "{inv}");
+        assert!((inv - inverse(&a).unwrap()).amax() < 1e-15);
+        // Not bordered: the closed form.
+        a[(1, 0)] = 0.25;
+        let inv = inverse_maybe_bordered(&a).unwrap();
+        assert!((inv * a - Matrix::<4, 4>::identity()).amax() < 1e-15, "{inv}");
+        a[(3, 3)] = 0.0;
+        a[(1, 0)] = 0.0;
+        assert!(inverse_maybe_bordered(&a).is_none());
+    }
+
+    #[test]
+    fn singular_is_none() {
+        let a = Matrix::<2, 2>::new(1.0, 2.0, 2.0, 4.0);
+        assert!(Lu::new(a).is_none());
+    }
+}
