@@ -19,6 +19,7 @@ macro_rules! with_systems {
             (particle, Particle, 3, 1),
             (rolling_disk, RollingDisk, 4, 2),
             (mobile_robot, MobileRobot, 4, 2),
+            (anharmonic_cvt, AnharmonicCvt, 3, 1),
         ] }
     };
 }
