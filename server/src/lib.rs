@@ -2,69 +2,61 @@
 //!
 //! `GET /systems` lists what can be simulated; `POST /simulate` runs methods on a scene and
 //! answers with the error series of the first integrals, as one JSON document or as
-//! server-sent events ([`stream()`]); `POST /scorecard` judges methods × scenes;
-//! `POST /work-precision` measures cost against accuracy ([`work_precision()`]);
-//! `GET /openapi.json` describes it all; `GET /health`; `/` serves the embedded page. [`app`]
-//! builds the router, so tests run it in-process. Latitude axes and references are kept
-//! across requests in [`Caches`].
+//! server-sent events; `POST /scorecard` judges methods × scenes; `POST /work-precision`
+//! measures cost against accuracy; `GET /openapi.json` describes it all; `GET /health`; `/`
+//! serves the embedded page. [`app`] builds the router, so tests run it in-process.
 //!
-//! Simulations never run on the async runtime: each method of a request is one task on the
-//! blocking pool ([`Runner`]), all in parallel, stopped through a [`Cancel`] flag when the
-//! client goes away. At most `max_simulations` requests compute at once, each holding a
-//! [`Slot`] ([`AppState::admit`]); one more gets 503. [`Config`] holds the limits.
+//! The crate by folder, each depending only on those listed before it:
+//! - [`config`], [`error`]: the limits ([`Config`]) and the error responses ([`AppError`]);
+//! - [`views`]: every response view, serialized as sent; a run is reported everywhere by one
+//!   [`RunSummary`];
+//! - [`request`]: the request bodies;
+//! - [`compute`]: where simulations run, off the async runtime: a request checked into a
+//!   [`Plan`], its admission [`Slot`], the [`Runner`] (one method per task on the blocking
+//!   pool, all in parallel, stopped through a [`Cancel`] flag when the client goes away) and
+//!   the [`Caches`] of latitude axes and references kept across requests;
+//! - [`observers`]: what watches a run: [`JsonCollector`] for a JSON answer, [`SseEmitter`]
+//!   for server-sent events;
+//! - [`state`]: [`AppState`], shared by the handlers; at most `max_simulations` requests
+//!   compute at once, each holding a [`Slot`] ([`AppState::admit`]); one more gets 503;
+//! - [`json_object`]: [`JsonObject`], the extractor every body goes through;
+//! - [`routes`]: the handlers;
+//! - [`openapi`]: the document, gathered from all of the above.
 #![warn(missing_docs)]
 
-mod cache;
-mod collector;
-mod config;
-mod error;
-pub mod events;
-mod health;
+pub mod compute;
+pub mod config;
+pub mod error;
+pub mod json_object;
+pub mod observers;
 pub mod openapi;
-mod page;
-mod plan;
-mod reporter;
-mod request;
-mod run_view;
-pub mod runner;
-mod scene_view;
-pub mod scorecard;
-mod series_view;
-mod simulate;
-mod slot;
-mod state;
-mod stream;
-mod systems;
-mod thread_clock;
-mod verdict_view;
-pub mod work_precision;
+pub mod request;
+pub mod routes;
+pub mod state;
+pub mod views;
 
-pub use cache::{CacheStats, Caches, CachesStats};
-pub use collector::Collector;
+pub use compute::{Caches, Cancel, CancelOnDrop, Delivery, Plan, Runner, Slot, ThreadClock};
 pub use config::Config;
 pub use error::{AppError, ErrorBody};
-pub use health::{Health, health};
+pub use json_object::JsonObject;
+pub use observers::{JsonCollector, SseEmitter, Verdicts};
 pub use openapi::{ApiDoc, openapi_json};
-pub use page::{Page, page};
-pub use plan::{Delivery, Plan};
-pub use reporter::Reporter;
-pub use request::{MethodRequest, SceneSpec, SimulateRequest};
-pub use run_view::{RunView, Status};
-pub use runner::{Cancel, CancelOnDrop, Runner};
-pub use scene_view::{MethodView, SceneView};
-pub use scorecard::{ScorecardRequest, ScorecardResponse, scorecard};
-pub use series_view::SeriesView;
-pub use simulate::{SimulateResponse, simulate};
-pub use slot::Slot;
-pub use state::AppState;
-pub use stream::stream;
-pub use systems::{
-    LimitsView, MethodInfoView, PaperScene, ParamView, PresetView, SystemView, SystemsResponse,
-    systems,
+pub use request::{
+    MethodRequest, SceneSpec, ScorecardRequest, SimulateRequest, WorkPrecisionRequest,
 };
-pub use thread_clock::ThreadClock;
-pub use verdict_view::{CRITERION, VerdictView, Verdicts};
-pub use work_precision::{WorkPrecisionRequest, WorkPrecisionResponse, work_precision};
+pub use routes::health::health;
+pub use routes::page::{Page, page};
+pub use routes::scorecard::scorecard;
+pub use routes::simulate::simulate;
+pub use routes::simulate_stream::stream;
+pub use routes::systems::systems;
+pub use routes::work_precision::work_precision;
+pub use state::AppState;
+pub use views::{
+    CRITERION, CacheStats, CachesStats, Health, LimitsView, MethodInfoView, MethodView, PaperScene,
+    ParamView, PresetView, RunSummary, RunView, SceneView, ScorecardResponse, SeriesView,
+    SimulateResponse, Status, SystemView, SystemsResponse, VerdictView, WorkPrecisionResponse,
+};
 
 use axum::Router;
 use axum::body::Body;

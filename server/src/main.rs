@@ -114,7 +114,7 @@ async fn main() -> std::process::ExitCode {
         }
     };
     // Signal handlers first: a SIGINT sent right after the "listening" line must not meet
-    // the default disposition (that race killed the server in a CI run of the shutdown test).
+    // the default disposition, which would kill the server instead of shutting it down.
     let signals = shutdown_signal();
     match listener.local_addr() {
         Ok(addr) => tracing::info!("nhlab listening on http://{addr}"),

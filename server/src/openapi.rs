@@ -1,9 +1,14 @@
-//! [`ApiDoc`]: the OpenAPI document served at `GET /openapi.json`. Ids (systems, methods,
-//! integrals) are listed as enums and parameter bounds as minimum/maximum, taken from the
-//! core's registry, so a fuzzer generates meaningful bodies.
+//! [`ApiDoc`]: the OpenAPI document served at `GET /openapi.json`, gathered from the
+//! handlers' paths and the views' schemas. Ids (systems, methods, integrals) are listed as
+//! enums and parameter bounds as minimum/maximum, taken from the core's registry
+//! (`request/schemas.rs`), so a fuzzer generates meaningful bodies.
+//! This module reads every other; only the router reads it.
 
-use crate::events::{DoneEvent, PointsEvent, ProgressEvent, RunEvent, ShutdownEvent};
-use crate::{ErrorBody, SceneView, VerdictView};
+use crate::error::ErrorBody;
+use crate::routes::{health, scorecard, simulate, systems, work_precision};
+use crate::views::{
+    DoneEvent, PointsEvent, ProgressEvent, RunEvent, SceneView, ShutdownEvent, VerdictView,
+};
 use axum::Json;
 use utoipa::OpenApi;
 
@@ -19,11 +24,11 @@ use utoipa::OpenApi;
             work–precision: run time against final error for each method and step size."
     ),
     paths(
-        crate::simulate::simulate,
-        crate::scorecard::scorecard,
-        crate::work_precision::work_precision,
-        crate::systems::systems,
-        crate::health::health,
+        simulate::simulate,
+        scorecard::scorecard,
+        work_precision::work_precision,
+        systems::systems,
+        health::health,
         openapi_json
     ),
     components(schemas(
@@ -43,103 +48,4 @@ pub struct ApiDoc;
 #[utoipa::path(get, path = "/openapi.json", tag = "nhlab", responses((status = 200, description = "OpenAPI 3.1 document")))]
 pub async fn openapi_json() -> Json<utoipa::openapi::OpenApi> {
     Json(ApiDoc::openapi())
-}
-
-/// Schemas built from the registry (used through `#[schema(schema_with = …)]`).
-pub(crate) mod schemas {
-    use crate::Config;
-    use nhlab_core::{Integral, ParamSpec, SYSTEMS, method_infos};
-    use utoipa::openapi::RefOr;
-    use utoipa::openapi::schema::{
-        AdditionalProperties, ArrayBuilder, ObjectBuilder, OneOfBuilder, Schema, Type,
-    };
-
-    fn strings(values: Vec<&'static str>) -> ObjectBuilder {
-        ObjectBuilder::new().schema_type(Type::String).enum_values(Some(values))
-    }
-
-    fn number() -> ObjectBuilder {
-        ObjectBuilder::new().schema_type(Type::Number)
-    }
-
-    fn bounded(p: &ParamSpec) -> ObjectBuilder {
-        let mut n = number().description(Some(p.description)).default(Some(p.default.into()));
-        if p.min.is_finite() {
-            n = if p.min_open { n.exclusive_minimum(Some(p.min)) } else { n.minimum(Some(p.min)) };
-        }
-        if p.max.is_finite() {
-            n = if p.max_open { n.exclusive_maximum(Some(p.max)) } else { n.maximum(Some(p.max)) };
-        }
-        n
-    }
-
-    /// `system`: one of the registry's ids.
-    pub fn system_id() -> ObjectBuilder {
-        strings(SYSTEMS.iter().map(|s| s.info().id).collect())
-            .description(Some("System id (see GET /systems)"))
-    }
-
-    /// `preset`: one of the presets of any system (each system has its own; see GET /systems).
-    pub fn preset_id() -> ObjectBuilder {
-        let mut ids: Vec<&'static str> =
-            SYSTEMS.iter().flat_map(|s| s.info().presets.iter().map(|p| p.id)).collect();
-        ids.sort_unstable();
-        ids.dedup();
-        strings(ids).description(Some(
-            "Preset id of the system (see GET /systems); fills params, q, v, step and t_end",
-        ))
-    }
-
-    /// `params`: numbers by name.
-    pub fn params() -> ObjectBuilder {
-        ObjectBuilder::new()
-            .schema_type(Type::Object)
-            .additional_properties(Some(AdditionalProperties::RefOr(RefOr::T(Schema::Object(
-                number().build(),
-            )))))
-            .description(Some("Parameter overrides by name, e.g. {\"epsilon\": 0.5}"))
-    }
-
-    /// `q`, `v`: the initial state's components, each at most `MAX_INITIAL` in magnitude.
-    pub fn state() -> ArrayBuilder {
-        let limit = nhlab_core::MAX_INITIAL;
-        ArrayBuilder::new().items(number().minimum(Some(-limit)).maximum(Some(limit)))
-    }
-
-    /// `integrals`: a non-empty list of integral ids.
-    pub fn integrals() -> ArrayBuilder {
-        ArrayBuilder::new()
-            .items(strings(Integral::ALL.map(Integral::id).to_vec()))
-            .min_items(Some(1))
-    }
-
-    /// `methods`: a non-empty list of method ids, `{"id": …, param: value}` objects or
-    /// `{"id": …, "params": {param: value}}` objects.
-    pub fn methods() -> ArrayBuilder {
-        let infos = method_infos();
-        let mut one_of = OneOfBuilder::new().item(strings(infos.iter().map(|m| m.id).collect()));
-        let closed = || {
-            ObjectBuilder::new()
-                .schema_type(Type::Object)
-                .additional_properties(Some(AdditionalProperties::FreeForm(false)))
-        };
-        for m in &infos {
-            let (mut flat, mut params) =
-                (closed().property("id", strings(vec![m.id])).required("id"), closed());
-            for p in m.params {
-                flat = flat.property(p.name, bounded(p));
-                params = params.property(p.name, bounded(p));
-            }
-            let nested = closed()
-                .property("id", strings(vec![m.id]))
-                .property("params", params)
-                .required("id")
-                .required("params");
-            one_of = one_of.item(flat).item(nested);
-        }
-        ArrayBuilder::new()
-            .items(one_of)
-            .min_items(Some(1))
-            .max_items(Some(Config::default().max_methods))
-    }
 }

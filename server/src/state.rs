@@ -2,9 +2,10 @@
 //! the count of running simulations, the shutdown flag and the [`Caches`] of latitude axes
 //! and references.
 
-use crate::{AppError, Caches, Config, Slot};
+use crate::compute::{ActiveRuns, Caches, RunGuard, Runner, Slot};
+use crate::config::Config;
+use crate::error::AppError;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use tokio::sync::{Semaphore, watch};
 
 /// Shared state of the app; cheap to clone.
@@ -14,7 +15,7 @@ pub struct AppState {
     pub config: Arc<Config>,
     /// Latitude axes and references kept across requests.
     pub caches: Arc<Caches>,
-    active: Arc<AtomicUsize>,
+    active: ActiveRuns,
     slots: Arc<Semaphore>,
     shutdown: Arc<watch::Sender<bool>>,
 }
@@ -32,7 +33,7 @@ impl AppState {
         Self {
             config: Arc::new(config),
             caches: Arc::default(),
-            active: Arc::default(),
+            active: ActiveRuns::default(),
             slots,
             shutdown: Arc::new(watch::Sender::new(false)),
         }
@@ -40,7 +41,7 @@ impl AppState {
 
     /// Number of simulation runs computing right now (one per method of a request).
     pub fn active_runs(&self) -> usize {
-        self.active.load(Ordering::SeqCst)
+        self.active.count()
     }
 
     /// Number of simulations (admitted requests) holding a slot right now.
@@ -86,17 +87,11 @@ impl AppState {
 
     /// Counts a run as active until the guard is dropped (also when the run panics).
     pub(crate) fn run_guard(&self) -> RunGuard {
-        self.active.fetch_add(1, Ordering::SeqCst);
-        RunGuard(self.active.clone())
+        self.active.guard()
     }
-}
 
-/// Keeps one run counted in [`AppState::active_runs`].
-#[derive(Debug)]
-pub(crate) struct RunGuard(Arc<AtomicUsize>);
-
-impl Drop for RunGuard {
-    fn drop(&mut self) {
-        self.0.fetch_sub(1, Ordering::SeqCst);
+    /// A runner whose runs count in [`active_runs`](Self::active_runs).
+    pub(crate) fn runner(&self) -> Runner {
+        Runner::new(&self.active, &self.config)
     }
 }

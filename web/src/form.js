@@ -64,7 +64,7 @@ export class Form {
     box.dataset.id = id;
     box.setAttribute('aria-label', `use ${info.name}`);
     const swatch = el('span', 'swatch');
-    const name = el('span', 'method-name', SHORT_NAMES[id] ?? info.name);
+    const name = el('span', 'method-name', info.name);
     name.title = [info.name, info.order ? `order ${info.order}` : '', info.reference].filter(Boolean).join(' · ');
     row.append(box, swatch, name);
     for (const p of info.params ?? []) {
@@ -233,9 +233,6 @@ export class Form {
     $('params-fieldset').hidden = fields.length === 0;
   }
 }
-
-// The paper's short names; the full name and reference are the row's tooltip.
-const SHORT_NAMES = { dla: 'DLA^α', dla01: 'DLA^{0,1}', leapfrog: 'LF (leap-frog)', dd: 'DD (discrete derivative)' };
 
 const SYMBOLS = { epsilon: 'ε', alpha: 'α' };
 

@@ -2,20 +2,14 @@
 // and its series, built by appending the `points` events. Exported as the JSON shape of
 // `POST /simulate` (so a download equals what a script would get) and as long-format CSV.
 
-/** A label for a method the scene did not label (should not happen with our server). */
-export function methodLabel(method) {
-  if (method.label) return method.label;
-  if (method.id === 'dla') return `DLA^${method.alpha ?? 0.5}`;
-  return { dla01: 'DLA^{0,1}', leapfrog: 'LF', dd: 'DD' }[method.id] ?? method.id;
-}
-
 export class Result {
   constructor(scene) {
     this.scene = scene;
     const integrals = scene.integrals ?? [];
     this.runs = (scene.methods ?? []).map((method) => ({
       method,
-      label: methodLabel(method),
+      // The server labels every method of a scene; an unlabelled one is shown by its id.
+      label: method.label ?? method.id,
       status: 'running',
       error: null,
       steps: null,

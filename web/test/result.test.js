@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { Result, methodLabel } from '../src/result.js';
+import { Result } from '../src/result.js';
 
 const scene = {
   system: 'knife_edge',
@@ -47,9 +47,10 @@ test('CSV has one row per bucket, labels quoted when needed', () => {
   assert.equal(r.toCSV(), 'run,method,status,integral,t,mean,max\n0,"a,b",running,energy,1,0,0\n0,"a,b",running,energy,2,0.001,0.002\n');
 });
 
-test('labels fall back to the paper names', () => {
-  assert.equal(methodLabel({ id: 'dla', alpha: 0.4 }), 'DLA^0.4');
-  assert.equal(methodLabel({ id: 'leapfrog' }), 'LF');
+test('runs take the labels the server gave their methods, else their ids', () => {
+  assert.deepEqual(new Result(scene).runs.map((r) => r.label), ['DLA^0.4', 'DD']);
+  const unlabelled = new Result({ ...scene, methods: [{ id: 'dla', alpha: 0.4 }, { id: 'leapfrog' }] });
+  assert.deepEqual(unlabelled.runs.map((r) => r.label), ['dla', 'leapfrog']);
 });
 
 test('the run event carries the verdicts; the JSON download puts each on its series', () => {

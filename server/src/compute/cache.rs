@@ -12,16 +12,15 @@
 //! (a scene whose axis is undefined stays so). Hits, misses and sizes are reported by
 //! `GET /health` as `cache`.
 
+use crate::views::{CacheStats, CachesStats};
 use nhlab_core::latitude::LatitudeAxis;
 use nhlab_core::reference::ReferenceError;
 use nhlab_core::work_precision::ReferenceSummary;
 use nhlab_core::{InputError, Scene};
-use serde::Serialize;
 use std::collections::{HashMap, VecDeque};
 use std::hash::Hash;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard};
-use utoipa::ToSchema;
 
 /// Most entries per cache: a few hundred scenes, each entry well under a kilobyte.
 pub const CAPACITY: usize = 256;
@@ -145,26 +144,6 @@ impl<K: Clone + Eq + Hash, V: Clone> Cache<K, V> {
     fn lock(&self) -> MutexGuard<'_, Entries<K, V>> {
         self.entries.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
     }
-}
-
-/// One cache's counters, as `GET /health` reports them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
-pub struct CacheStats {
-    /// Lookups answered from the cache.
-    pub hits: u64,
-    /// Lookups that computed.
-    pub misses: u64,
-    /// Entries held now (at most 256).
-    pub entries: usize,
-}
-
-/// The counters of both caches.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
-pub struct CachesStats {
-    /// Latitude monodromy axes (by system, params, q, v).
-    pub latitude: CacheStats,
-    /// Dop853 references of `/work-precision` (by scene, t_end, tolerance).
-    pub reference: CacheStats,
 }
 
 #[cfg(test)]

@@ -2,7 +2,7 @@
 //! runs from any directory, served at `/` and its asset paths. Only embedded files are
 //! served: a path is a key into the embedded set, never a file-system path.
 
-use crate::AppError;
+use crate::error::AppError;
 use axum::http::{HeaderValue, Method, StatusCode, Uri, header};
 use axum::response::{IntoResponse, Response};
 use rust_embed::Embed;

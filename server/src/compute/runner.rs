@@ -1,57 +1,27 @@
 //! [`Runner`]: runs one method of a [`Plan`] on the blocking thread pool, never on the
-//! async runtime, counting it in [`AppState::active_runs`], holding the request's [`Slot`]
-//! until it ends, and timing it: wall clock and its thread's CPU time ([`ThreadClock`]). A
-//! panic in a run is caught and becomes that run's error (500 for a JSON request, a failed
-//! `run` event in a stream).
+//! async runtime, counting it in [`ActiveRuns`], holding the request's [`Slot`] until it
+//! ends, and timing it: wall clock and its thread's CPU time ([`ThreadClock`]). A panic in a
+//! run is caught and becomes that run's error (500 for a JSON request, a failed `run` event
+//! in a stream).
 //!
 //! Checking a request runs there too ([`off_runtime`]), before admission.
 //!
-//! Cancellation: a [`Cancel`] flag, checked by the observers every
+//! Cancellation: a [`Cancel`](crate::compute::Cancel) flag, checked by the observers every
 //! [`PROGRESS_EVERY`] steps (microseconds apart), set when the client goes away (the
-//! handler's future or the stream is dropped, see [`CancelOnDrop`]).
+//! handler's future or the stream is dropped, see
+//! [`CancelOnDrop`](crate::compute::CancelOnDrop)).
 
-use crate::thread_clock::millis;
-use crate::{AppState, Plan, Slot, ThreadClock};
+use crate::compute::{ActiveRuns, Plan, Slot, ThreadClock, millis};
+use crate::config::Config;
+use crate::error::AppError;
+use crate::views::{MethodView, RunSummary};
 use nhlab_core::{Observer, RunConfig, RunOutcome};
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use tokio::task::JoinHandle;
 
 /// Steps between two looks at the cancellation flag (and the clock, for progress).
 pub const PROGRESS_EVERY: u64 = 1024;
-
-/// A flag that asks running simulations to stop.
-#[derive(Debug, Clone, Default)]
-pub struct Cancel(Arc<AtomicBool>);
-
-impl Cancel {
-    /// Asks the runs to stop.
-    pub fn cancel(&self) {
-        self.0.store(true, Ordering::SeqCst);
-    }
-
-    /// Whether a stop was asked for.
-    pub fn is_cancelled(&self) -> bool {
-        self.0.load(Ordering::Relaxed)
-    }
-
-    /// A guard that cancels when dropped (held by whatever lives as long as the client).
-    pub fn on_drop(&self) -> CancelOnDrop {
-        CancelOnDrop(self.clone())
-    }
-}
-
-/// Cancels its [`Cancel`] when dropped.
-#[derive(Debug)]
-pub struct CancelOnDrop(Cancel);
-
-impl Drop for CancelOnDrop {
-    fn drop(&mut self) {
-        self.0.cancel();
-    }
-}
 
 /// How one run ended.
 #[derive(Debug)]
@@ -68,20 +38,41 @@ pub struct Finished<O> {
     pub observer: O,
 }
 
+impl<O> Finished<O> {
+    /// How the run of `method` went, or the panic's message if it panicked.
+    pub fn summary(&self, method: MethodView) -> Result<RunSummary, &str> {
+        match &self.outcome {
+            Ok(outcome) => Ok(RunSummary::new(method, outcome, self.elapsed_ms, self.cpu_ms)),
+            Err(panic) => Err(panic),
+        }
+    }
+}
+
 /// Starts runs of a plan.
 #[derive(Debug, Clone)]
 pub struct Runner {
-    state: AppState,
+    runs: ActiveRuns,
     slot: Option<Slot>,
+    /// `Config::panic_on_points` (debug builds only).
+    #[cfg(debug_assertions)]
+    panic_on_points: Option<usize>,
 }
 
 impl Runner {
-    /// A runner counting its runs in `state`.
-    pub fn new(state: &AppState) -> Self {
-        Self { state: state.clone(), slot: None }
+    /// A runner counting its runs in `runs`, with the app's `config`.
+    pub fn new(runs: &ActiveRuns, config: &Config) -> Self {
+        #[cfg(not(debug_assertions))]
+        let _ = config;
+        Self {
+            runs: runs.clone(),
+            slot: None,
+            #[cfg(debug_assertions)]
+            panic_on_points: config.panic_on_points,
+        }
     }
 
-    /// The same, its runs holding `slot` (from [`AppState::admit`]) until they end.
+    /// The same, its runs holding `slot` (from
+    /// [`AppState::admit`](crate::state::AppState::admit)) until they end.
     pub fn with_slot(mut self, slot: Slot) -> Self {
         self.slot = Some(slot);
         self
@@ -108,10 +99,10 @@ impl Runner {
         mut observer: O,
         then: impl FnOnce(Finished<O>) -> T + Send + 'static,
     ) -> JoinHandle<T> {
-        let guard = self.state.run_guard();
+        let guard = self.runs.guard();
         let slot = self.slot.clone();
         #[cfg(debug_assertions)]
-        let inject_panic = self.state.config.panic_on_points == Some(plan.points);
+        let inject_panic = self.panic_on_points == Some(plan.points);
         let prepared = plan.prepared.clone();
         let method = plan.methods[index];
         let cfg = RunConfig { points: plan.points, progress_every: PROGRESS_EVERY };
@@ -147,22 +138,22 @@ impl Runner {
 /// Runs `check` (resolving a request, which may compute latitude axes: Dop853 solves that
 /// can take a while for an odd scene) on the blocking pool at low priority, so that checking
 /// input never holds up the async runtime either. A panic in it is a 500.
-pub(crate) async fn off_runtime<T: Send + 'static>(
-    check: impl FnOnce() -> Result<T, crate::AppError> + Send + 'static,
-) -> Result<T, crate::AppError> {
+pub async fn off_runtime<T: Send + 'static>(
+    check: impl FnOnce() -> Result<T, AppError> + Send + 'static,
+) -> Result<T, AppError> {
     tokio::task::spawn_blocking(move || {
         lower_priority();
         check()
     })
     .await
-    .map_err(|e| crate::AppError::internal(format!("internal error: checking the request: {e}")))?
+    .map_err(|e| AppError::internal(format!("internal error: checking the request: {e}")))?
 }
 
 /// Makes the current blocking-pool thread yield to the async runtime's threads (nice 19 on
 /// Linux), once per thread: however many runs compute, the kernel lets a runtime thread that
 /// wakes up (a request to answer, an event to send) run at once, so `/health`, admission and
 /// the streams stay responsive. Other systems keep the default priority.
-pub(crate) fn lower_priority() {
+pub fn lower_priority() {
     #[cfg(target_os = "linux")]
     {
         use std::cell::Cell;

@@ -1,11 +1,14 @@
-//! [`Reporter`]: the observer of a streamed run. It batches new buckets and, a few times a
-//! second, sends them as `points` events followed by a `progress` event into the stream's
-//! bounded channel (blocking the run when the client reads slowly). It stops the run when
-//! the request is cancelled or the channel is closed (the client went away). It also keeps
-//! the whole series for their verdicts ([`Verdicts`]), sent with the `run` event.
+//! [`SseEmitter`]: the observer of a run answered as server-sent events (`/simulate` with
+//! `Accept: text/event-stream`). It batches new buckets and, a few times a second, sends them
+//! as `points` events followed by a `progress` event into the stream's bounded channel
+//! (blocking the run when the client reads slowly). It stops the run when the request is
+//! cancelled or the channel is closed (the client went away). It also keeps the whole series
+//! for their verdicts ([`Verdicts`]), sent with the `run` event. Its counterpart for a JSON
+//! answer is [`JsonCollector`](crate::observers::JsonCollector).
 
-use crate::events::{PointsEvent, ProgressEvent, event};
-use crate::{Cancel, SeriesView, VerdictView, Verdicts};
+use crate::compute::Cancel;
+use crate::observers::{Verdicts, sse_event};
+use crate::views::{PointsEvent, ProgressEvent, SeriesView, VerdictView};
 use axum::response::sse::Event;
 use nhlab_core::{Bucket, Integral, Observer};
 use std::collections::BTreeMap;
@@ -13,9 +16,9 @@ use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 use tokio::sync::mpsc::Sender;
 
-/// Streams a run's buckets and progress.
+/// Streams a run's buckets and progress as server-sent events.
 #[derive(Debug)]
-pub struct Reporter {
+pub struct SseEmitter {
     run: usize,
     steps: u64,
     tx: Sender<Event>,
@@ -26,8 +29,8 @@ pub struct Reporter {
     every: Duration,
 }
 
-impl Reporter {
-    /// A reporter for run `run` of `steps` steps, reporting every `every`.
+impl SseEmitter {
+    /// An emitter for run `run` of `steps` steps, reporting every `every`.
     pub fn new(run: usize, steps: u64, every: Duration, tx: Sender<Event>, cancel: Cancel) -> Self {
         Self {
             run,
@@ -50,7 +53,10 @@ impl Reporter {
             .filter(|(_, s)| !s.is_empty())
             .map(|(integral, series)| {
                 let series = std::mem::take(series);
-                event("points", &PointsEvent { run, integral: integral.id().to_owned(), series })
+                sse_event(
+                    "points",
+                    &PointsEvent { run, integral: integral.id().to_owned(), series },
+                )
             })
             .collect()
     }
@@ -65,7 +71,7 @@ impl Reporter {
     }
 }
 
-impl Observer for Reporter {
+impl Observer for SseEmitter {
     fn initial(&mut self, integral: Integral, value: f64) {
         self.verdicts.initial(integral, value);
     }
@@ -92,7 +98,7 @@ impl Observer for Reporter {
         self.last = Instant::now();
         let fraction = steps_done as f64 / self.steps.max(1) as f64;
         let progress =
-            event("progress", &ProgressEvent { run: self.run, t, fraction, steps: steps_done });
+            sse_event("progress", &ProgressEvent { run: self.run, t, fraction, steps: steps_done });
         let sent = self.take_points().into_iter().chain([progress]).all(|ev| self.send(ev));
         if sent {
             ControlFlow::Continue(())

@@ -1,8 +1,8 @@
 //! [`ThreadClock`]: the CPU time of the calling thread, which is what a run's computation
-//! cost. A run's wall time also counts the time it waited for a core (five runs share two
-//! cores here, and a browser drawing the live plots on the same machine takes its share);
-//! its thread's CPU time does not, so steps per second of it measure the method, not the
-//! load.
+//! cost. A run's wall time also counts the time it waited for a core (runs beyond the
+//! server's cores share them, and a browser drawing the live plots on the same machine takes
+//! its share); its thread's CPU time does not, so steps per second of it measure the method,
+//! not the load.
 
 use std::time::Duration;
 
@@ -25,7 +25,7 @@ impl ThreadClock {
 }
 
 /// A duration in milliseconds rounded to the microsecond, as the API reports times.
-pub(crate) fn millis(d: Duration) -> f64 {
+pub fn millis(d: Duration) -> f64 {
     (d.as_secs_f64() * 1e6).round() / 1e3
 }
 

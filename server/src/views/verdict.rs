@@ -1,11 +1,9 @@
 //! [`VerdictView`]: what an error series does over time — `exact`, `bounded` or `drift` — with
 //! the numbers behind it, by the core's criterion ([`nhlab_core::classify`], quoted in
-//! [`CRITERION`]). [`Verdicts`] keeps a run's buckets and initial values to classify each
-//! series once the run has ended (a verdict needs the whole series).
+//! [`CRITERION`]).
 
-use nhlab_core::{Bucket, Integral, Verdict, classify};
+use nhlab_core::Verdict;
 use serde::Serialize;
-use std::collections::BTreeMap;
 use utoipa::ToSchema;
 
 /// The criterion, as the API documents it and the page shows it.
@@ -46,45 +44,5 @@ impl From<Verdict> for VerdictView {
             late: finite(v.late),
             ratio: finite(v.ratio),
         }
-    }
-}
-
-/// A run's series kept whole for their verdicts, by integral (an array indexed by the
-/// integral's discriminant: a bucket costs a push, not a map lookup).
-#[derive(Debug, Clone, Default)]
-pub struct Verdicts {
-    initial: [Option<f64>; Integral::ALL.len()],
-    buckets: [Vec<Bucket>; Integral::ALL.len()],
-}
-
-impl Verdicts {
-    /// Records `I(0)` of a series (the scale of `exact`).
-    pub fn initial(&mut self, integral: Integral, value: f64) {
-        self.initial[integral as usize] = Some(value);
-    }
-
-    /// Records a bucket.
-    pub fn push(&mut self, integral: Integral, bucket: Bucket) {
-        self.buckets[integral as usize].push(bucket);
-    }
-
-    /// The buckets of one series (empty if it has none).
-    pub fn buckets(&self, integral: Integral) -> &[Bucket] {
-        &self.buckets[integral as usize]
-    }
-
-    /// The verdict of one series (`None` when it has no bucket: nothing to judge).
-    pub fn of(&self, integral: Integral) -> Option<VerdictView> {
-        let buckets = self.buckets(integral);
-        if buckets.is_empty() {
-            return None;
-        }
-        let scale = self.initial[integral as usize].unwrap_or(0.0);
-        Some(classify(buckets, scale).into())
-    }
-
-    /// Every series' verdict, by integral id.
-    pub fn all(&self) -> BTreeMap<String, VerdictView> {
-        Integral::ALL.iter().filter_map(|&i| Some((i.id().to_owned(), self.of(i)?))).collect()
     }
 }

@@ -1,30 +1,20 @@
 //! [`simulate`]: the `POST /simulate` handler. It reads and checks the request, then answers
-//! with one JSON document ([`SimulateResponse`]) or, for `Accept: text/event-stream`, with the
-//! event [`stream`](crate::stream()). The methods run in parallel on the blocking pool, once
-//! the request is admitted ([`AppState::admit`]: a bounded number of simulations at once).
+//! with one JSON document ([`SimulateResponse`], each run kept by a [`JsonCollector`]) or, for
+//! `Accept: text/event-stream`, with the event [`stream`]. The
+//! methods run in parallel on the blocking pool, once the request is admitted
+//! ([`AppState::admit`]: a bounded number of simulations at once).
 
-use crate::plan::Delivery;
-use crate::runner::Finished;
-use crate::{
-    AppError, AppState, Cancel, Collector, Plan, RunView, Runner, SceneView, SimulateRequest, Slot,
-    Status,
-};
-use axum::body::Bytes;
+use crate::compute::{Cancel, Delivery, Finished, Plan, Slot, off_runtime};
+use crate::error::{AppError, ErrorBody};
+use crate::json_object::JsonObject;
+use crate::observers::JsonCollector;
+use crate::request::SimulateRequest;
+use crate::routes::simulate_stream::stream;
+use crate::state::AppState;
+use crate::views::{RunView, SimulateResponse};
 use axum::extract::State;
-use axum::extract::rejection::BytesRejection;
 use axum::http::{HeaderMap, header};
 use axum::response::{IntoResponse, Response};
-use serde::Serialize;
-use utoipa::ToSchema;
-
-/// The JSON answer of `POST /simulate`.
-#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
-pub struct SimulateResponse {
-    /// The resolved scene.
-    pub scene: SceneView,
-    /// One run per method, in the order of `scene.methods`.
-    pub runs: Vec<RunView>,
-}
 
 /// Runs methods on a scene and reports the error of each first integral over time.
 #[utoipa::path(
@@ -42,26 +32,24 @@ pub struct SimulateResponse {
                 (SimulateResponse = "application/json"),
                 (String = "text/event-stream"),
             )),
-        (status = 400, description = "The body is not valid JSON of the right shape", body = crate::ErrorBody),
-        (status = 413, description = "The body is too large", body = crate::ErrorBody),
-        (status = 422, description = "A field is wrong (the error names it)", body = crate::ErrorBody),
-        (status = 500, description = "Internal error", body = crate::ErrorBody),
+        (status = 400, description = "The body is not valid JSON of the right shape", body = ErrorBody),
+        (status = 413, description = "The body is too large", body = ErrorBody),
+        (status = 422, description = "A field is wrong (the error names it)", body = ErrorBody),
+        (status = 500, description = "Internal error", body = ErrorBody),
         (status = 503, description = "Every simulation slot is taken, or the server is \
-            shutting down; retry after `Retry-After` seconds", body = crate::ErrorBody,
+            shutting down; retry after `Retry-After` seconds", body = ErrorBody,
             headers(("Retry-After" = u32, description = "Seconds to wait before retrying"))),
     )
 )]
 pub async fn simulate(
     State(state): State<AppState>,
     headers: HeaderMap,
-    body: Result<Bytes, BytesRejection>,
+    JsonObject(req): JsonObject<SimulateRequest>,
 ) -> Result<Response, AppError> {
-    let body = body.map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
-    let req = SimulateRequest::from_json(&body)?;
     let delivery = if wants_stream(&headers) { Delivery::Stream } else { Delivery::Json };
     let plan = {
-        let state = state.clone();
-        crate::runner::off_runtime(move || Plan::resolve(&req, &state, delivery)).await?
+        let (config, caches) = (state.config.clone(), state.caches.clone());
+        off_runtime(move || Plan::resolve(&req, &config, &caches, delivery)).await?
     };
     let scene = &plan.scene;
     let summary = format!(
@@ -75,11 +63,11 @@ pub async fn simulate(
     tracing::Span::current().record("scene", summary.as_str());
     let slot = state.admit()?;
     match delivery {
-        Delivery::Stream => Ok(crate::stream(&state, plan, slot)),
+        Delivery::Stream => Ok(stream(&state, plan, slot)),
         Delivery::Json | Delivery::JsonOnly => {
             let finished = run(&state, &plan, slot).await?;
             // Building the columns, the verdicts and ~1 MB of JSON is CPU work: off the runtime.
-            let body = crate::runner::off_runtime(move || {
+            let body = off_runtime(move || {
                 let response = respond(plan, finished)?;
                 // Sized up front (a number takes ~20 bytes): the buffer then never moves.
                 let numbers: usize = response
@@ -113,13 +101,15 @@ async fn run(
     state: &AppState,
     plan: &Plan,
     slot: Slot,
-) -> Result<Vec<Finished<Collector>>, AppError> {
+) -> Result<Vec<Finished<JsonCollector>>, AppError> {
     let cancel = Cancel::default();
     // If the client goes away, this future is dropped and the runs are stopped.
     let _on_drop = cancel.on_drop();
-    let runner = Runner::new(state).with_slot(slot);
+    let runner = state.runner().with_slot(slot);
     let handles: Vec<_> = (0..plan.methods.len())
-        .map(|i| runner.spawn(plan, i, Collector::new(&plan.prepared.integrals, cancel.clone())))
+        .map(|i| {
+            runner.spawn(plan, i, JsonCollector::new(&plan.prepared.integrals, cancel.clone()))
+        })
         .collect();
     let mut finished = Vec::with_capacity(handles.len());
     for (i, handle) in handles.into_iter().enumerate() {
@@ -129,23 +119,18 @@ async fn run(
 }
 
 /// The answer: one run view per method, with its series as columns and their verdicts.
-fn respond(plan: Plan, finished: Vec<Finished<Collector>>) -> Result<SimulateResponse, AppError> {
+fn respond(
+    plan: Plan,
+    finished: Vec<Finished<JsonCollector>>,
+) -> Result<SimulateResponse, AppError> {
     let mut runs = Vec::with_capacity(finished.len());
     for (i, finished) in finished.into_iter().enumerate() {
-        let outcome = finished.outcome.map_err(|panic| {
+        let summary = finished.summary(plan.scene.methods[i].clone()).map_err(|panic| {
             AppError::internal(format!(
                 "internal error: the simulation of run {i} panicked: {panic}"
             ))
         })?;
-        runs.push(RunView {
-            method: plan.scene.methods[i].clone(),
-            status: Status::of(&outcome),
-            error: outcome.error.map(|e| e.to_string()),
-            steps: outcome.steps,
-            elapsed_ms: finished.elapsed_ms,
-            cpu_ms: finished.cpu_ms,
-            series: finished.observer.into_series(),
-        });
+        runs.push(RunView { summary, series: finished.observer.into_series() });
     }
     Ok(SimulateResponse { scene: plan.scene, runs })
 }

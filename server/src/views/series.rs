@@ -3,7 +3,7 @@
 //! response each series also carries its [`VerdictView`]; a stream's `points` events carry
 //! none (the `run` event has the verdicts, which need the whole series).
 
-use crate::VerdictView;
+use crate::views::VerdictView;
 use nhlab_core::Bucket;
 use serde::Serialize;
 use utoipa::ToSchema;

@@ -6,27 +6,24 @@
 //!
 //! Like `/simulate`: input checked field by field before admission, one simulation slot,
 //! the computation on the blocking pool, stopped when the client goes away. The reference
-//! is kept across requests in [`Caches`](crate::Caches) (`reference.cached` says whether
+//! is kept across requests in [`Caches`] (`reference.cached` says whether
 //! this request reused one). Its solve cannot be interrupted, but Dop853 stops by itself
 //! after 10⁵ steps, so its cost is bounded whatever t_end is.
 
-use crate::plan::Delivery;
-use crate::request::scene_body;
-use crate::{
-    AppError, AppState, Cancel, MethodRequest, MethodView, Plan, SceneView, SimulateRequest, Slot,
-    Status, openapi::schemas,
+use crate::compute::{
+    Caches, Cancel, Delivery, Plan, ReferenceKey, Slot, lower_priority, off_runtime,
 };
+use crate::error::{AppError, ErrorBody};
+use crate::json_object::JsonObject;
+use crate::request::{SimulateRequest, WorkPrecisionRequest};
+use crate::state::AppState;
+use crate::views::{ReferenceView, Status, WorkPrecisionResponse, WorkPrecisionRow};
 use axum::Json;
-use axum::body::Bytes;
 use axum::extract::State;
-use axum::extract::rejection::BytesRejection;
 use nhlab_core::reference::TOL;
 use nhlab_core::work_precision::{measure_until, reference};
 use nhlab_core::{Scene, SceneRequest, Short};
-use serde::Serialize;
-use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use utoipa::ToSchema;
 
 /// Most step sizes per request (`levels`, or entries of `steps`).
 pub const MAX_LEVELS: usize = 12;
@@ -36,83 +33,6 @@ pub const MAX_REPEATS: i64 = 10;
 pub const DEFAULT_LEVELS: i64 = 4;
 /// Repetitions when `repeats` is not given.
 pub const DEFAULT_REPEATS: i64 = 3;
-
-scene_body! {
-    /// The body of `POST /work-precision`: a `/simulate` scene and methods (without
-    /// `points`), and the step sizes to measure. The scene's `step` is the largest of the
-    /// `levels` (when `steps` is given and `step` is not, the largest of `steps` stands for
-    /// it); `t_end` is where the final error is measured; `integrals` are those whose largest
-    /// error is reported.
-    pub struct WorkPrecisionRequest {
-        /// Methods, as in `/simulate` (default: the paper's five).
-        #[serde(default)]
-        #[schema(schema_with = schemas::methods)]
-        pub methods: Option<Vec<MethodRequest>>,
-        /// Step sizes, each in (0, t_end]; each is rounded to t_end / n so the run ends at
-        /// t_end. Not together with `levels`.
-        #[serde(default)]
-        #[schema(min_items = 1, max_items = 12)]
-        pub steps: Option<Vec<f64>>,
-        /// Step sizes h, h/2, …, h/2^(levels−1) from the scene's step (default 4 when `steps`
-        /// is not given).
-        #[serde(default)]
-        #[schema(minimum = 1, maximum = 12)]
-        pub levels: Option<i64>,
-        /// Timing repetitions per run; the fastest counts (default 3).
-        #[serde(default)]
-        #[schema(minimum = 1, maximum = 10)]
-        pub repeats: Option<i64>,
-    }
-}
-
-/// The answer of `POST /work-precision`.
-#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
-pub struct WorkPrecisionResponse {
-    /// The resolved scene (its `step` is the scene's own; each row has its step).
-    pub scene: SceneView,
-    /// The reference the final errors are measured against.
-    pub reference: ReferenceView,
-    /// One row per method × step, method by method, steps in the order given.
-    pub rows: Vec<WorkPrecisionRow>,
-}
-
-/// The Dop853 reference solution at t_end (relative and absolute tolerance 1e-15; an angle ζ
-/// kept near 0 by whole turns, restarting every time unit).
-#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
-pub struct ReferenceView {
-    /// Its compute time, in milliseconds (when it was computed, for a cached one).
-    pub elapsed_ms: f64,
-    /// Right-hand-side evaluations.
-    pub evaluations: u32,
-    /// Accepted steps.
-    pub steps: u32,
-    /// `|A(q) q̇|` at t_end: how far the reference drifted off the constraint.
-    pub constraint_residual: f64,
-    /// Whether it came from the server's cache (an earlier request for the same scene).
-    pub cached: bool,
-}
-
-/// One method at one step.
-#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
-pub struct WorkPrecisionRow {
-    /// The method.
-    pub method: MethodView,
-    /// The step used: the one asked for, rounded to t_end / steps.
-    pub step: f64,
-    /// Steps completed.
-    pub steps: u64,
-    /// The fastest repetition's wall time, in milliseconds.
-    pub elapsed_ms: f64,
-    /// `‖(q, q̇)(t_end) − reference‖∞`; null when the run failed.
-    pub final_error: Option<f64>,
-    /// Largest `|I − I(0)|` of each integral asked for; null when the run failed (or the
-    /// latitude had no section crossing).
-    pub max_error: BTreeMap<String, Option<f64>>,
-    /// `ok` or `failed`.
-    pub status: Status,
-    /// Why it failed, or null.
-    pub error: Option<String>,
-}
 
 /// Measures the final error and run time of methods at several step sizes.
 #[utoipa::path(
@@ -125,24 +45,22 @@ pub struct WorkPrecisionRow {
             method × step: wall time (fastest of `repeats`), final error against the \
             reference at t_end and the largest error of each integral.",
             body = WorkPrecisionResponse),
-        (status = 400, description = "The body is not valid JSON of the right shape", body = crate::ErrorBody),
-        (status = 413, description = "The body is too large", body = crate::ErrorBody),
-        (status = 422, description = "A field is wrong (the error names it, e.g. `steps[2]`)", body = crate::ErrorBody),
-        (status = 500, description = "Internal error", body = crate::ErrorBody),
+        (status = 400, description = "The body is not valid JSON of the right shape", body = ErrorBody),
+        (status = 413, description = "The body is too large", body = ErrorBody),
+        (status = 422, description = "A field is wrong (the error names it, e.g. `steps[2]`)", body = ErrorBody),
+        (status = 500, description = "Internal error", body = ErrorBody),
         (status = 503, description = "Every simulation slot is taken, or the server is \
-            shutting down; retry after `Retry-After` seconds", body = crate::ErrorBody,
+            shutting down; retry after `Retry-After` seconds", body = ErrorBody,
             headers(("Retry-After" = u32, description = "Seconds to wait before retrying"))),
     )
 )]
 pub async fn work_precision(
     State(state): State<AppState>,
-    body: Result<Bytes, BytesRejection>,
+    JsonObject(req): JsonObject<WorkPrecisionRequest>,
 ) -> Result<Json<WorkPrecisionResponse>, AppError> {
-    let body = body.map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
-    let req: WorkPrecisionRequest = crate::request::read_object(&body)?;
     let job = {
         let state = state.clone();
-        crate::runner::off_runtime(move || Job::resolve(&req, &state)).await?
+        off_runtime(move || Job::resolve(&req, &state)).await?
     };
     tracing::Span::current().record(
         "scene",
@@ -178,7 +96,7 @@ impl Job {
             let t_end = scene_t_end(&sim)?;
             sim.step = given_steps(steps, t_end)?.into_iter().reduce(f64::max);
         }
-        let plan = Plan::resolve(&sim, state, Delivery::JsonOnly)?;
+        let plan = Plan::resolve(&sim, &state.config, &state.caches, Delivery::JsonOnly)?;
         let (t_end, h) = (plan.prepared.scene.t_end, plan.prepared.scene.step);
         let (steps, field) = match (&req.steps, req.levels) {
             (Some(_), Some(_)) => {
@@ -260,9 +178,9 @@ fn halvings(h: f64, levels: i64) -> Result<Vec<f64>, AppError> {
 /// Runs every row on the blocking pool.
 ///
 /// One task runs the rows one after another rather than one task per method: the point of
-/// the endpoint is the time a run takes, and runs sharing the cores (two here, fewer than
-/// the paper's five methods) would each be timed with the others' contention in it, by
-/// how the scheduler happened to interleave them. Alone, each run's time is its own, and
+/// the endpoint is the time a run takes, and runs sharing the cores (a small server has
+/// fewer than the paper's five methods) would each be timed with the others' contention in
+/// it, by how the scheduler happened to interleave them. Alone, each run's time is its own, and
 /// the minimum over the repetitions removes the rest of the noise.
 async fn run(state: &AppState, job: Job, slot: Slot) -> Result<WorkPrecisionResponse, AppError> {
     let cancel = Cancel::default();
@@ -271,20 +189,16 @@ async fn run(state: &AppState, job: Job, slot: Slot) -> Result<WorkPrecisionResp
     let (guard, caches) = (state.run_guard(), state.caches.clone());
     let task = tokio::task::spawn_blocking(move || {
         let (_guard, _slot) = (guard, slot);
-        crate::runner::lower_priority();
+        lower_priority();
         catch_unwind(AssertUnwindSafe(|| compute(&job, &caches, &cancel)))
             .map_err(|_| AppError::internal("internal error: the work-precision run panicked"))?
     });
     task.await.map_err(|e| AppError::internal(format!("work-precision task: {e}")))?
 }
 
-fn compute(
-    job: &Job,
-    caches: &crate::Caches,
-    cancel: &Cancel,
-) -> Result<WorkPrecisionResponse, AppError> {
+fn compute(job: &Job, caches: &Caches, cancel: &Cancel) -> Result<WorkPrecisionResponse, AppError> {
     let prepared = &job.plan.prepared;
-    let key = crate::cache::ReferenceKey::of(&prepared.scene, TOL);
+    let key = ReferenceKey::of(&prepared.scene, TOL);
     let (solved, cached) = caches.reference.get_or_compute(key, || reference(prepared));
     let r = solved.map_err(|e| {
         AppError::invalid(

@@ -2,11 +2,11 @@
 //! once), then per run any number of `progress` and `points`, one `run`, and `done` last —
 //! or `shutdown` last instead when the server shuts down mid-stream (its runs stopped).
 //! Concatenating a run's `points` for an integral gives the JSON response's series exactly.
+//! [`sse_event`](crate::observers::sse_event) writes them.
 //!
-//! [`SceneView`]: crate::SceneView
+//! [`SceneView`]: crate::views::SceneView
 
-use crate::{MethodView, SeriesView, Status, VerdictView};
-use axum::response::sse::Event;
+use crate::views::{RunSummary, SeriesView, VerdictView};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use utoipa::ToSchema;
@@ -41,20 +41,9 @@ pub struct PointsEvent {
 pub struct RunEvent {
     /// Run index.
     pub run: usize,
-    /// The method.
-    pub method: MethodView,
-    /// `ok` or `failed`.
-    pub status: Status,
-    /// Why it failed, or null.
-    pub error: Option<String>,
-    /// Steps completed.
-    pub steps: u64,
-    /// Wall-clock time of the run, from its start to its end, in milliseconds. It includes
-    /// the time the run waited for a core: runs beyond the server's cores share them.
-    pub elapsed_ms: f64,
-    /// CPU time the run's thread used, in milliseconds: what the method cost, whatever the
-    /// load (null where the platform does not measure it).
-    pub cpu_ms: Option<f64>,
+    /// How the run went.
+    #[serde(flatten)]
+    pub summary: RunSummary,
     /// The verdict of each series, by integral (they need the whole series, so they come
     /// here rather than with the `points`).
     pub verdicts: BTreeMap<String, VerdictView>,
@@ -81,20 +70,4 @@ pub struct ShutdownEvent {
     pub runs: usize,
     /// Wall-clock time of the whole request, in milliseconds.
     pub elapsed_ms: f64,
-}
-
-/// An event named `name` carrying `data` as JSON.
-///
-/// Serialized into one buffer first: axum's `Event::json_data` hands serde_json's every token
-/// (each number, comma, bracket) to its line-splitting writer, a memchr and a copy per token,
-/// which cost a stream of `points` about 5 % of the server's CPU.
-pub fn event<T: Serialize>(name: &str, data: &T) -> Event {
-    match serde_json::to_string(data) {
-        Ok(json) => Event::default().event(name).data(json),
-        Err(e) => {
-            let message = format!("could not serialize the {name} event: {e}");
-            let error = serde_json::json!({ "error": message }).to_string();
-            Event::default().event("error").data(error)
-        }
-    }
 }

@@ -1,19 +1,20 @@
 //! [`stream`]: the server-sent-event answer to `POST /simulate` with
 //! `Accept: text/event-stream`.
 //!
-//! The runs report into a bounded channel; the response body reads it. Each run makes its
-//! last `points` and its `run` event on its own thread as it ends; a coordinating task sends
-//! them, then `done`. When the client goes away the body is dropped, which sets the request's
-//! [`Cancel`] flag: the runs see it within [`PROGRESS_EVERY`](crate::runner::PROGRESS_EVERY)
-//! steps and stop.
+//! The runs report into a bounded channel through their [`SseEmitter`]s; the response body
+//! reads it. Each run makes its last `points` and its `run` event on its own thread as it
+//! ends; a coordinating task sends them, then `done`. When the client goes away the body is
+//! dropped, which sets the request's [`Cancel`] flag: the runs see it within
+//! [`PROGRESS_EVERY`](crate::compute::PROGRESS_EVERY) steps and stop.
 //!
 //! The stream holds its simulation [`Slot`] until its runs have stopped and its last event is
 //! sent. On shutdown ([`AppState::shut_down`]) the runs are stopped, their `run` events sent,
 //! and a `shutdown` event ends the stream instead of `done`.
 
-use crate::events::{DoneEvent, RunEvent, ShutdownEvent, event};
-use crate::runner::Finished;
-use crate::{AppState, Cancel, MethodView, Plan, Reporter, Runner, Slot, Status};
+use crate::compute::{Cancel, Finished, Plan, Runner, Slot, millis};
+use crate::observers::{SseEmitter, sse_event};
+use crate::state::AppState;
+use crate::views::{DoneEvent, MethodView, RunEvent, RunSummary, ShutdownEvent, Status};
 use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use futures_util::StreamExt;
@@ -32,9 +33,9 @@ pub fn stream(state: &AppState, plan: Plan, slot: Slot) -> Response {
     let cancel = Cancel::default();
     let on_drop = cancel.on_drop();
     // The channel is empty: the scene event always fits.
-    let _ = tx.try_send(event("scene", &plan.scene));
+    let _ = tx.try_send(sse_event("scene", &plan.scene));
     let every = state.config.report_every;
-    let runner = Runner::new(state).with_slot(slot);
+    let runner = state.runner().with_slot(slot);
     tokio::spawn(coordinate(runner, state.clone(), plan, every, tx, cancel));
     let body = ReceiverStream::new(rx).map(move |ev| {
         // The body owns the guard: dropping it (the client left) cancels the runs.
@@ -56,9 +57,9 @@ async fn coordinate(
     let steps = plan.scene.steps;
     let mut runs: FuturesUnordered<_> = (0..plan.methods.len())
         .map(|i| {
-            let reporter = Reporter::new(i, steps, every, tx.clone(), cancel.clone());
+            let emitter = SseEmitter::new(i, steps, every, tx.clone(), cancel.clone());
             let method = plan.scene.methods[i].clone();
-            let handle = runner.spawn_then(&plan, i, reporter, |run| last_events(run, method));
+            let handle = runner.spawn_then(&plan, i, emitter, |run| last_events(run, method));
             async move { (i, handle.await) }
         })
         .collect();
@@ -78,17 +79,10 @@ async fn coordinate(
         };
         let Some((i, joined)) = next else { break };
         let (events, status) = joined.unwrap_or_else(|e| {
-            let run = RunEvent {
-                run: i,
-                method: plan.scene.methods[i].clone(),
-                status: Status::Failed,
-                error: Some(format!("internal error: {e}")),
-                steps: 0,
-                elapsed_ms: 0.0,
-                cpu_ms: None,
-                verdicts: Default::default(),
-            };
-            (vec![event("run", &run)], Status::Failed)
+            let method = plan.scene.methods[i].clone();
+            let summary = RunSummary::failed(method, format!("internal error: {e}"), 0.0, None);
+            let run = RunEvent { run: i, summary, verdicts: Default::default() };
+            (vec![sse_event("run", &run)], Status::Failed)
         });
         failed += usize::from(status == Status::Failed);
         for ev in events {
@@ -97,13 +91,13 @@ async fn coordinate(
             }
         }
     }
-    let elapsed_ms = crate::thread_clock::millis(start.elapsed());
+    let elapsed_ms = millis(start.elapsed());
     let runs = plan.methods.len();
     let last = if shutting_down {
         let error = "the server is shutting down: the runs were stopped".to_owned();
-        event("shutdown", &ShutdownEvent { error, runs, elapsed_ms })
+        sse_event("shutdown", &ShutdownEvent { error, runs, elapsed_ms })
     } else {
-        event("done", &DoneEvent { runs, failed, elapsed_ms })
+        sse_event("done", &DoneEvent { runs, failed, elapsed_ms })
     };
     let _ = tx.send(last).await;
     // The runner (and with it the slot) is dropped here, after the last event.
@@ -112,25 +106,14 @@ async fn coordinate(
 
 /// A run's last `points` events and its `run` event, made on the run's own thread as it ends
 /// (serializing them is CPU work, and the other runs may still be computing).
-fn last_events(mut finished: Finished<Reporter>, method: MethodView) -> (Vec<Event>, Status) {
+fn last_events(mut finished: Finished<SseEmitter>, method: MethodView) -> (Vec<Event>, Status) {
     let mut events = finished.observer.take_points();
     let verdicts = finished.observer.verdicts();
-    let (status, error, steps) = match finished.outcome {
-        Ok(outcome) => (Status::of(&outcome), outcome.error.map(|e| e.to_string()), outcome.steps),
-        Err(panic) => {
-            (Status::Failed, Some(format!("internal error: the simulation panicked: {panic}")), 0)
-        }
-    };
-    let run = RunEvent {
-        run: finished.index,
-        method,
-        status,
-        error,
-        steps,
-        elapsed_ms: finished.elapsed_ms,
-        cpu_ms: finished.cpu_ms,
-        verdicts,
-    };
-    events.push(event("run", &run));
+    let summary = finished.summary(method.clone()).unwrap_or_else(|panic| {
+        let error = format!("internal error: the simulation panicked: {panic}");
+        RunSummary::failed(method, error, finished.elapsed_ms, finished.cpu_ms)
+    });
+    let status = summary.status;
+    events.push(sse_event("run", &RunEvent { run: finished.index, summary, verdicts }));
     (events, status)
 }

@@ -1,10 +1,10 @@
-//! [`SystemsResponse`]: `GET /systems`, everything a client needs to build a request: the
-//! systems with their parameters, integrals and presets (the paper's experiments), the
-//! methods with theirs, the default methods, the paper's experiments and the server's limits.
+//! [`SystemsResponse`]: the answer of `GET /systems`, everything a client needs to build a
+//! request: the systems with their parameters, integrals and presets (the paper's
+//! experiments), the methods with theirs, the default methods, the paper's experiments and the
+//! server's limits.
 
-use crate::{AppState, Config, MethodView};
-use axum::Json;
-use axum::extract::State;
+use crate::config::Config;
+use crate::views::MethodView;
 use nhlab_core::{Method, PAPER_SCENES, ParamSpec, Preset, SYSTEMS, SystemEntry, method_infos};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -209,10 +209,4 @@ impl SystemsResponse {
             },
         }
     }
-}
-
-/// Lists the systems, methods and limits.
-#[utoipa::path(get, path = "/systems", tag = "nhlab", responses((status = 200, body = SystemsResponse)))]
-pub async fn systems(State(state): State<AppState>) -> Json<SystemsResponse> {
-    Json(SystemsResponse::new(&state.config))
 }

@@ -1,7 +1,11 @@
 //! [`Plan`]: a `/simulate` request resolved and checked against the core and the limits,
 //! ready to run. Every error names the field at fault.
 
-use crate::{AppError, AppState, Config, MethodRequest, SceneView, SimulateRequest};
+use crate::compute::Caches;
+use crate::config::Config;
+use crate::error::AppError;
+use crate::request::{MethodRequest, SimulateRequest};
+use crate::views::SceneView;
 use nhlab_core::{InputError, Method, MethodSpec, PreparedScene, Scene, Short};
 use std::sync::Arc;
 
@@ -31,15 +35,15 @@ pub struct Plan {
 }
 
 impl Plan {
-    /// Resolves and checks `req` against `state`'s limits; the latitude axis comes from
-    /// `state`'s cache (computed and kept there on a miss).
+    /// Resolves and checks `req` against the limits of `config`; the latitude axis comes from
+    /// `caches` (computed and kept there on a miss).
     pub fn resolve(
         req: &SimulateRequest,
-        state: &AppState,
+        config: &Config,
+        caches: &Caches,
         delivery: Delivery,
     ) -> Result<Self, AppError> {
-        let config = &state.config;
-        let axis = |scene: &Scene| state.caches.latitude(scene);
+        let axis = |scene: &Scene| caches.latitude(scene);
         let scene = Scene::resolve(&req.scene_request())?;
         check_steps(&scene, config, delivery)?;
         let methods = methods(req.methods.as_deref(), config)?;

@@ -1,16 +1,19 @@
-//! [`Collector`]: the observer of a JSON request's run: keeps every bucket, stops when the
-//! request is cancelled, and once the run has ended turns each series into columns with its
-//! verdict. The buckets are kept once, in [`Verdicts`] (which needs them whole), and become
-//! [`SeriesView`] columns only at the end.
+//! [`JsonCollector`]: the observer of a run answered in one JSON document (`/simulate`
+//! without a stream, `/scorecard`): keeps every bucket, stops when the request is cancelled,
+//! and once the run has ended turns each series into columns with its verdict. The buckets
+//! are kept once, in [`Verdicts`] (which needs them whole), and become [`SeriesView`] columns
+//! only at the end. Its counterpart for a stream is [`SseEmitter`](crate::observers::SseEmitter).
 
-use crate::{Cancel, SeriesView, Verdicts};
+use crate::compute::Cancel;
+use crate::observers::Verdicts;
+use crate::views::SeriesView;
 use nhlab_core::{Bucket, Integral, Observer};
 use std::collections::BTreeMap;
 use std::ops::ControlFlow;
 
-/// Collects a run's series.
+/// Collects a run's series for a JSON answer.
 #[derive(Debug)]
-pub struct Collector {
+pub struct JsonCollector {
     /// The integrals of the plan, each of which gets a series (possibly empty).
     integrals: Vec<Integral>,
     /// The buckets and initial values, by integral.
@@ -18,7 +21,7 @@ pub struct Collector {
     cancel: Cancel,
 }
 
-impl Collector {
+impl JsonCollector {
     /// A collector for `integrals`, stopping when `cancel` is set.
     pub fn new(integrals: &[Integral], cancel: Cancel) -> Self {
         Self { integrals: integrals.to_vec(), verdicts: Verdicts::default(), cancel }
@@ -40,7 +43,7 @@ impl Collector {
     }
 }
 
-impl Observer for Collector {
+impl Observer for JsonCollector {
     fn initial(&mut self, integral: Integral, value: f64) {
         self.verdicts.initial(integral, value);
     }

@@ -1,5 +1,5 @@
 //! [`Slot`]: one of the `max_simulations` simulation slots, taken by
-//! [`AppState::admit`](crate::AppState::admit). The runs of a request each hold a clone, as
+//! [`AppState::admit`](crate::state::AppState::admit). The runs of a request each hold a clone, as
 //! does whatever answers the client (the JSON handler, a stream's coordinating task), so the
 //! slot frees when the last of them ends: when the computation has really stopped.
 

@@ -1,6 +1,7 @@
 //! [`SceneView`]: the resolved scene as the API reports it (the JSON response's `scene`, the
 //! stream's `scene` event): every field after presets and defaults were applied.
 
+use crate::views::MethodView;
 use nhlab_core::{Method, PreparedScene};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -31,29 +32,6 @@ pub struct SceneView {
     pub integrals: Vec<String>,
     /// Buckets per series (at most; fewer when there are fewer samples).
     pub points: usize,
-}
-
-/// A configured method: its id, its parameters (e.g. `alpha`) and its label.
-#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
-pub struct MethodView {
-    /// Method id.
-    pub id: String,
-    /// Parameter values by name, inline (e.g. `"alpha": 0.4`).
-    #[serde(flatten)]
-    pub params: BTreeMap<String, f64>,
-    /// Short label, e.g. `DLA^0.4`.
-    pub label: String,
-}
-
-impl MethodView {
-    /// The view of a method.
-    pub fn of(method: &Method) -> Self {
-        Self {
-            id: method.info().id.to_owned(),
-            params: method.params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect(),
-            label: method.label(),
-        }
-    }
 }
 
 impl SceneView {

@@ -1,0 +1,21 @@
+//! Where simulations compute, off the async runtime: a request checked into a [`Plan`], its
+//! admission [`Slot`], the [`Runner`] that runs each method on the blocking pool (timed by a
+//! [`ThreadClock`], counted in [`ActiveRuns`], stopped through [`Cancel`]), and the [`Caches`]
+//! of latitude axes and references kept across requests. Nothing here knows the app's state
+//! or its handlers: they hand in what is needed.
+
+mod active_runs;
+mod cache;
+mod cancel;
+mod plan;
+mod runner;
+mod slot;
+mod thread_clock;
+
+pub use active_runs::{ActiveRuns, RunGuard};
+pub use cache::{CAPACITY, Cache, Caches, ReferenceKey, SceneKey};
+pub use cancel::{Cancel, CancelOnDrop};
+pub use plan::{Delivery, Plan};
+pub use runner::{Finished, PROGRESS_EVERY, Runner, lower_priority, off_runtime};
+pub use slot::Slot;
+pub use thread_clock::{ThreadClock, millis};

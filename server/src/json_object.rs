@@ -1,0 +1,46 @@
+//! [`JsonObject`]: the extractor of every request body the API reads. It reads the body
+//! within the size limit (`max_body_bytes`, set on the router by `DefaultBodyLimit`), refuses
+//! anything but one JSON object, and reads the object with `serde_path_to_error`, so that a
+//! wrong type or an unknown field is reported with its path. Its rejection is the API's
+//! [`AppError`]: 413 for an oversized body (naming the limit), 400 for a body that is not one
+//! JSON object of the right shape. The `Content-Type` header is not looked at.
+
+use crate::error::AppError;
+use crate::state::AppState;
+use axum::body::Bytes;
+use axum::extract::{FromRequest, Request};
+use serde::de::DeserializeOwned;
+
+/// A request body read as one JSON object into `T`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct JsonObject<T>(pub T);
+
+impl<T: DeserializeOwned + Send> FromRequest<AppState> for JsonObject<T> {
+    type Rejection = AppError;
+
+    async fn from_request(req: Request, state: &AppState) -> Result<Self, AppError> {
+        let body = Bytes::from_request(req, state)
+            .await
+            .map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
+        read_object(&body).map(Self)
+    }
+}
+
+/// Reads a request body that must be one JSON object, naming the offending path on failure.
+///
+/// serde's derived structs also accept an array of the fields in order, so `["cvt"]` would be
+/// read as `{"system": "cvt"}` and `[]` as `{}` (all defaults: a whole scorecard); any JSON
+/// that is not an object is refused here first.
+pub fn read_object<T: DeserializeOwned>(body: &[u8]) -> Result<T, AppError> {
+    let first = body.iter().find(|b| !matches!(b, b' ' | b'\t' | b'\n' | b'\r'));
+    if first.is_some_and(|&b| b != b'{')
+        && let Ok(value) = serde_json::from_slice::<serde_json::Value>(body)
+    {
+        return Err(AppError::not_an_object(&value));
+    }
+    let de = &mut serde_json::Deserializer::from_slice(body);
+    let req: T = serde_path_to_error::deserialize(&mut *de)?;
+    // Nothing but whitespace may follow the object (`{…} {` is not one JSON document).
+    de.end().map_err(|e| AppError::malformed(&e))?;
+    Ok(req)
+}

@@ -1,0 +1,112 @@
+//! [`MethodRequest`]: one method of a request, as an id string or an object with its
+//! parameters beside the id or in a `params` object; a parameter given twice is refused.
+
+use serde::Deserialize;
+use serde::de::{self, MapAccess, Visitor};
+use std::fmt;
+
+/// One method of a request: its id and parameter overrides, beside the id (`{"id": "dla",
+/// "alpha": 0.4}`, as responses echo it) or in a `params` object (`{"id": "dla", "params":
+/// {"alpha": 0.4}}`, as a scene's parameters and `GET /systems` put them); a bare string is
+/// the method with its defaults.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MethodRequest {
+    /// Method id.
+    pub id: String,
+    /// Parameters, in the order given.
+    pub params: Vec<(String, f64)>,
+    /// Whether they were given in a `params` object (their errors' paths then go through it).
+    pub nested: bool,
+}
+
+impl MethodRequest {
+    /// The method `id` with these parameters, given beside the id.
+    pub fn new(id: &str, params: Vec<(String, f64)>) -> Self {
+        Self { id: id.to_owned(), params, nested: false }
+    }
+}
+
+impl<'de> Deserialize<'de> for MethodRequest {
+    fn deserialize<D: de::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(MethodVisitor)
+    }
+}
+
+struct MethodVisitor;
+
+impl<'de> Visitor<'de> for MethodVisitor {
+    type Value = MethodRequest;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str(
+            "a method: an id string, or an object {\"id\": \"dla\", \"alpha\": 0.4} or \
+             {\"id\": \"dla\", \"params\": {\"alpha\": 0.4}}",
+        )
+    }
+
+    fn visit_str<E: de::Error>(self, id: &str) -> Result<MethodRequest, E> {
+        Ok(MethodRequest::new(id, Vec::new()))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<MethodRequest, A::Error> {
+        let (mut id, mut flat, mut nested) = (None, Vec::new(), None);
+        while let Some(key) = map.next_key::<String>()? {
+            match key.as_str() {
+                "id" if id.is_some() => return Err(de::Error::duplicate_field("id")),
+                "id" => id = Some(map.next_value::<String>()?),
+                "params" if nested.is_some() => return Err(de::Error::duplicate_field("params")),
+                "params" => nested = Some(map.next_value::<Params>()?.0),
+                _ => {
+                    let value = map.next_value::<f64>()?;
+                    push_param(&mut flat, key, value)?;
+                }
+            }
+        }
+        let id = id.ok_or_else(|| de::Error::missing_field("id"))?;
+        match nested {
+            None => Ok(MethodRequest::new(&id, flat)),
+            Some(params) if flat.is_empty() => Ok(MethodRequest { id, params, nested: true }),
+            Some(_) => Err(de::Error::custom(format!(
+                "give the parameters of method {id} either beside its id or in `params`, not both"
+            ))),
+        }
+    }
+}
+
+/// A method's `params` object, name by name in the order given.
+struct Params(Vec<(String, f64)>);
+
+impl<'de> Deserialize<'de> for Params {
+    fn deserialize<D: de::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct ParamsVisitor;
+        impl<'de> Visitor<'de> for ParamsVisitor {
+            type Value = Params;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("an object of parameter values, e.g. {\"alpha\": 0.4}")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Params, A::Error> {
+                let mut params = Vec::new();
+                while let Some(key) = map.next_key::<String>()? {
+                    let value = map.next_value::<f64>()?;
+                    push_param(&mut params, key, value)?;
+                }
+                Ok(Params(params))
+            }
+        }
+        d.deserialize_map(ParamsVisitor)
+    }
+}
+
+/// Adds a parameter, refusing a second value for the same name (else the last would win
+/// unseen).
+fn push_param<E: de::Error>(
+    params: &mut Vec<(String, f64)>,
+    name: String,
+    value: f64,
+) -> Result<(), E> {
+    if params.iter().any(|(n, _)| *n == name) {
+        return Err(E::custom(format!("parameter `{name}` is given twice")));
+    }
+    params.push((name, value));
+    Ok(())
+}

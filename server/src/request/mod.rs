@@ -1,0 +1,22 @@
+//! The request bodies: [`SimulateRequest`] (`POST /simulate`), [`ScorecardRequest`] with its
+//! [`SceneSpec`]s (`POST /scorecard`), [`WorkPrecisionRequest`] (`POST /work-precision`), and
+//! the [`MethodRequest`] they share. They are plain serde types; reading a body into one (its
+//! size, its shape, the error responses) is [`JsonObject`](crate::JsonObject)'s work, and
+//! checking its values against the core and the limits is [`Plan`](crate::Plan)'s. Only
+//! `system` is required in a scene.
+
+mod method_request;
+mod objects;
+mod scene_spec;
+pub(crate) mod schemas;
+mod scorecard_request;
+mod simulate_request;
+mod work_precision_request;
+
+pub use method_request::MethodRequest;
+pub(crate) use objects::objects;
+pub use scene_spec::SceneSpec;
+pub use scorecard_request::ScorecardRequest;
+pub use simulate_request::SimulateRequest;
+pub(crate) use simulate_request::scene_body;
+pub use work_precision_request::WorkPrecisionRequest;

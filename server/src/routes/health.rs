@@ -1,0 +1,21 @@
+//! [`health`]: the `GET /health` handler, which answers from the async runtime alone (no
+//! simulation ever runs there) with the simulation slots taken, the runs computing and the
+//! caches' counters.
+
+use crate::state::AppState;
+use crate::views::Health;
+use axum::Json;
+use axum::extract::State;
+
+/// Says the server is up, and how busy.
+#[utoipa::path(get, path = "/health", tag = "nhlab", responses((status = 200, body = Health)))]
+pub async fn health(State(state): State<AppState>) -> Json<Health> {
+    let status = if state.is_shutting_down() { "shutting_down" } else { "ok" };
+    Json(Health {
+        status: status.into(),
+        simulations: state.busy_slots(),
+        max_simulations: state.config.max_simulations,
+        active_runs: state.active_runs(),
+        cache: state.caches.stats(),
+    })
+}

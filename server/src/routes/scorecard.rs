@@ -1,0 +1,192 @@
+//! [`scorecard`]: the `POST /scorecard` handler. Methods (default: every registered method)
+//! × scenes (default: the paper's six experiments) → the verdict of every integral's error
+//! series per run, and each method's measured properties (reversibility, fibration) on each
+//! scene. Everything is computed on request, in parallel on the blocking pool, and stopped
+//! when the client goes away, like `/simulate`.
+//!
+//! A scene is checked exactly as a `/simulate` body would be (its errors are reported under
+//! `scenes[i]`); the methods and `points` once for all scenes. Each run is kept by a
+//! [`JsonCollector`], of which only the verdicts are reported.
+
+use crate::compute::{Cancel, Delivery, Plan, Slot, lower_priority, off_runtime};
+use crate::error::{AppError, ErrorBody};
+use crate::json_object::JsonObject;
+use crate::observers::JsonCollector;
+use crate::request::{MethodRequest, SceneSpec, ScorecardRequest};
+use crate::state::AppState;
+use crate::views::{
+    CRITERION, PROPERTIES_TEST, PropertiesView, ScorecardResponse, ScorecardRun, ScorecardScene,
+};
+use axum::Json;
+use axum::extract::State;
+use nhlab_core::{Method, PAPER_SCENES};
+
+/// Most scenes per scorecard.
+pub const MAX_SCENES: usize = 16;
+
+/// Scores methods on scenes: verdicts of every error series and measured properties.
+#[utoipa::path(
+    post,
+    path = "/scorecard",
+    tag = "nhlab",
+    request_body = ScorecardRequest,
+    responses(
+        (status = 200, description = "Verdicts per scene, method and integral, and each \
+            method's measured properties per scene. Verdict criterion: exact: the largest \
+            error stays at round-off, max ≤ 1e-10·max(1, |I(0)|); drift: the mean error over \
+            the last quarter of the time span exceeds the largest error over its first 1/32; \
+            bounded otherwise.", body = ScorecardResponse),
+        (status = 400, description = "The body is not valid JSON of the right shape", body = ErrorBody),
+        (status = 413, description = "The body is too large", body = ErrorBody),
+        (status = 422, description = "A field is wrong (the error names it, e.g. `scenes[1].preset`)", body = ErrorBody),
+        (status = 500, description = "Internal error", body = ErrorBody),
+        (status = 503, description = "Every simulation slot is taken, or the server is \
+            shutting down; retry after `Retry-After` seconds", body = ErrorBody,
+            headers(("Retry-After" = u32, description = "Seconds to wait before retrying"))),
+    )
+)]
+pub async fn scorecard(
+    State(state): State<AppState>,
+    JsonObject(req): JsonObject<ScorecardRequest>,
+) -> Result<Json<ScorecardResponse>, AppError> {
+    let plans = {
+        let state = state.clone();
+        off_runtime(move || plans(&req, &state)).await?
+    };
+    tracing::Span::current().record(
+        "scene",
+        format!("scorecard scenes={} methods={}", plans.len(), plans[0].methods.len()).as_str(),
+    );
+    // One simulation slot for the whole scorecard, like one /simulate request.
+    let slot = state.admit()?;
+    Ok(Json(run(&state, plans, slot).await?))
+}
+
+/// Every registered method, the paper's five first ([`Method::all`]).
+fn all_methods() -> Vec<MethodRequest> {
+    Method::all()
+        .iter()
+        .map(|m| {
+            let params = m.params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect();
+            MethodRequest::new(m.info().id, params)
+        })
+        .collect()
+}
+
+fn plans(req: &ScorecardRequest, state: &AppState) -> Result<Vec<Plan>, AppError> {
+    let scenes = match &req.scenes {
+        None => PAPER_SCENES
+            .iter()
+            .map(|(system, preset)| SceneSpec {
+                system: (*system).to_owned(),
+                preset: Some((*preset).to_owned()),
+                ..SceneSpec::default()
+            })
+            .collect(),
+        Some(s) if s.is_empty() => {
+            return Err(AppError::invalid(
+                "scenes",
+                "scenes must not be empty; leave it out for the paper's six experiments",
+            ));
+        }
+        Some(s) if s.len() > MAX_SCENES => {
+            return Err(AppError::invalid(
+                "scenes",
+                format!("{} scenes exceed the limit of {MAX_SCENES} per scorecard", s.len()),
+            ));
+        }
+        Some(s) => s.clone(),
+    };
+    let methods = req.methods.clone().unwrap_or_else(all_methods);
+    scenes
+        .into_iter()
+        .enumerate()
+        .map(|(i, scene)| {
+            let sim = scene.to_simulate(Some(methods.clone()), req.points);
+            Plan::resolve(&sim, &state.config, &state.caches, Delivery::JsonOnly).map_err(
+                |mut e| {
+                    // Methods and points are the scorecard's own fields; the rest is the scene's.
+                    if let Some(path) = &e.path
+                        && !path.starts_with("methods")
+                        && path != "points"
+                    {
+                        e.path = Some(format!("scenes[{i}].{path}"));
+                    }
+                    e
+                },
+            )
+        })
+        .collect()
+}
+
+async fn run(
+    state: &AppState,
+    plans: Vec<Plan>,
+    slot: Slot,
+) -> Result<ScorecardResponse, AppError> {
+    let cancel = Cancel::default();
+    // If the client goes away, this future is dropped and the runs are stopped.
+    let _on_drop = cancel.on_drop();
+    let runner = state.runner().with_slot(slot.clone());
+    let ids = scene_ids(&plans);
+    // Every run and every scene's property measurements start at once.
+    let mut runs = Vec::new();
+    let mut measures = Vec::new();
+    for plan in &plans {
+        runs.push(
+            (0..plan.methods.len())
+                // A collector keeps the series the verdicts need; only they are reported.
+                .map(|i| runner.spawn(plan, i, JsonCollector::new(&[], cancel.clone())))
+                .collect::<Vec<_>>(),
+        );
+        let (scene, methods) = (plan.prepared.clone(), plan.methods.clone());
+        let (guard, cancel, slot) = (state.run_guard(), cancel.clone(), slot.clone());
+        measures.push(tokio::task::spawn_blocking(move || {
+            let (_guard, _slot) = (guard, slot);
+            lower_priority();
+            let measure = |m: &Method| (!cancel.is_cancelled()).then(|| scene.scene.properties(m));
+            methods.iter().map(measure).collect::<Vec<_>>()
+        }));
+    }
+    let mut scenes = Vec::with_capacity(plans.len());
+    let mut properties = Vec::new();
+    for (((plan, handles), measure), id) in plans.iter().zip(runs).zip(measures).zip(ids) {
+        let mut out = Vec::with_capacity(handles.len());
+        for (i, handle) in handles.into_iter().enumerate() {
+            let finished = handle.await.map_err(|e| AppError::internal(format!("run {i}: {e}")))?;
+            let method = &plan.scene.methods[i];
+            let summary = finished.summary(method.clone()).map_err(|panic| {
+                AppError::internal(format!(
+                    "internal error: the simulation of {} on {id} panicked: {panic}",
+                    method.label
+                ))
+            })?;
+            out.push(ScorecardRun { summary, verdicts: finished.observer.verdicts.all() });
+        }
+        let measured = measure.await.map_err(|e| {
+            AppError::internal(format!("internal error: measuring properties on {id}: {e}"))
+        })?;
+        for (method, m) in plan.scene.methods.iter().zip(measured) {
+            let m = m.ok_or_else(|| AppError::internal("the scorecard was cancelled"))?;
+            properties.push(PropertiesView::of(method.clone(), &plan.scene.system, &id, m));
+        }
+        scenes.push(ScorecardScene { id, scene: plan.scene.clone(), runs: out });
+    }
+    Ok(ScorecardResponse {
+        criterion: CRITERION.to_owned(),
+        properties_test: PROPERTIES_TEST.to_owned(),
+        methods: plans[0].scene.methods.clone(),
+        scenes,
+        properties,
+    })
+}
+
+/// `system/preset` per plan, with `#i` added to a repeated one.
+fn scene_ids(plans: &[Plan]) -> Vec<String> {
+    let mut ids: Vec<String> = Vec::with_capacity(plans.len());
+    for (i, plan) in plans.iter().enumerate() {
+        let id = format!("{}/{}", plan.scene.system, plan.scene.preset);
+        ids.push(if ids.contains(&id) { format!("{id}#{i}") } else { id });
+    }
+    ids
+}

@@ -1,0 +1,40 @@
+//! [`Health`]: the answer of `GET /health`, how busy the server is, with the counters of its
+//! caches ([`CachesStats`]).
+
+use serde::Serialize;
+use utoipa::ToSchema;
+
+/// The answer of `GET /health`.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct Health {
+    /// `ok`, or `shutting_down` (streams are ending, no new simulations).
+    pub status: String,
+    /// Simulations (admitted requests) holding a slot right now.
+    pub simulations: usize,
+    /// Most simulations at once; one more gets 503.
+    pub max_simulations: usize,
+    /// Simulation runs computing right now (one per method of a simulation).
+    pub active_runs: usize,
+    /// Hits, misses and entries of the latitude-axis and reference caches.
+    pub cache: CachesStats,
+}
+
+/// One cache's counters, as `GET /health` reports them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
+pub struct CacheStats {
+    /// Lookups answered from the cache.
+    pub hits: u64,
+    /// Lookups that computed.
+    pub misses: u64,
+    /// Entries held now (at most 256).
+    pub entries: usize,
+}
+
+/// The counters of both caches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
+pub struct CachesStats {
+    /// Latitude monodromy axes (by system, params, q, v).
+    pub latitude: CacheStats,
+    /// Dop853 references of `/work-precision` (by scene, t_end, tolerance).
+    pub reference: CacheStats,
+}

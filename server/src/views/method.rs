@@ -1,0 +1,30 @@
+//! [`MethodView`]: a configured method as every answer reports it: its id, its parameters
+//! inline and its label.
+
+use nhlab_core::Method;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use utoipa::ToSchema;
+
+/// A configured method: its id, its parameters (e.g. `alpha`) and its label.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct MethodView {
+    /// Method id.
+    pub id: String,
+    /// Parameter values by name, inline (e.g. `"alpha": 0.4`).
+    #[serde(flatten)]
+    pub params: BTreeMap<String, f64>,
+    /// Short label, e.g. `DLA^0.4`.
+    pub label: String,
+}
+
+impl MethodView {
+    /// The view of a method.
+    pub fn of(method: &Method) -> Self {
+        Self {
+            id: method.info().id.to_owned(),
+            params: method.params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect(),
+            label: method.label(),
+        }
+    }
+}
