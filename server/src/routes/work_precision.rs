@@ -20,8 +20,8 @@ use crate::state::AppState;
 use crate::views::{ReferenceView, Status, WorkPrecisionResponse, WorkPrecisionRow};
 use axum::Json;
 use axum::extract::State;
-use nhlab_core::reference::TOL;
-use nhlab_core::work_precision::{measure_until, reference};
+use nhlab_core::measure::reference::TOL;
+use nhlab_core::measure::work_precision::{measure_until, reference};
 use nhlab_core::{Scene, SceneRequest, Short};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
