@@ -1,5 +1,5 @@
 //! ns/step for every method × system, and the paper's whole figure set on one core.
-//! `cargo bench -p nhlab-core`; numbers go to docs/benchmarks.md.
+//! `cargo bench -p nhlab-core`; numbers go to `docs/performance.md`.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use nhlab_core::{Method, Observer, RunConfig, Scene, SceneRequest, State, System, Vector};
@@ -9,7 +9,7 @@ const STEPS: u64 = 10_000;
 
 /// Every registered method: the paper's five first (implicit ones on their fast paths),
 /// then the others (DD-AVF, RK4), then the implicit ones on their general Newton paths, so
-/// that one run gives the fast/general ratio (issue 4).
+/// that one run gives the fast/general ratio.
 fn methods() -> Vec<(String, Method)> {
     let mut out: Vec<(String, Method)> =
         Method::all().into_iter().map(|m| (m.label(), m)).collect();

@@ -1,10 +1,10 @@
-//! DD's energy error at round-off over very long runs (issue 4). DD conserves H exactly in
+//! DD's energy error at round-off over very long runs. DD conserves H exactly in
 //! exact arithmetic, so |H − H(0)| is pure round-off.
 //!
 //! `cargo run --release -p nhlab-core --example dd_roundoff -- [steps]`
 //! (default 10⁸ steps of the paper's knife edge, at the paper's h = π/10 and at h = 0.31,
 //! whole turns taken off ζ as the driver does). Three runs each:
-//! - "DD": DD as it runs by default, its step ending in double-double (`exact_energy`; the
+//! - "DD": DD as it runs by default, its step ending in double-double (`dd::closed_form`; the
 //!   state's compensations are the low parts);
 //! - "plain": the same, with the compensations zeroed after every step, i.e. the state rounded
 //!   to doubles;

@@ -6,7 +6,7 @@
 //! step) is a bias: over 10⁸ steps it grows linearly, where unbiased rounding grows like √N.
 //! The mean difference of the two steps' `q̇·δq̇` and `∇V·δq`, component by component (same
 //! scale), says where it sits: driver or passenger, velocity or position. This found the two
-//! biases of DD's `(σ, ε)` experiment (`docs/benchmarks-history.md`).
+//! biases of DD's `(σ, ε)` experiment (`git show 3afd52e:docs/benchmarks-history.md`).
 //! `cargo run --release -p nhlab-core --example energy_bias` (`STEPS`, default 10⁵ per preset).
 
 use nhlab_core::{Method, Scene, SceneRequest, State, System, Vector};
@@ -29,7 +29,7 @@ fn report<S: System<N, R>, const N: usize, const R: usize>(steps: usize) {
             };
             let mut memory = general.memory();
             // The state's value, with the compensations (which carry DD's exact end where V
-            // is quadratic, `exact_energy`); H and the size of its terms there.
+            // is quadratic, `dd::closed_form`); H and the size of its terms there.
             let value = |s: &State<N, R>| (s.q + s.q_compensation, s.v + s.v_compensation);
             let energy = |s: &State<N, R>| {
                 let (q, v) = value(s);

@@ -1,4 +1,4 @@
-//! Work–precision table of every method on the two scenes of docs/benchmarks.md: the knife
+//! Work–precision table of every method on the two scenes of `docs/performance.md`: the knife
 //! edge (paper, to t = 100) and the rotating CVT with ε = 0.5 (to t = 3000), steps divided
 //! by √2 from the scene's own (a ladder as fine as SciPy's half-decade tolerances in
 //! bench/scipy_dop853.py, so that neither side's grid decides an error level). Prints CSV (labels quoted: `DLA^{0,1}` has a comma):

@@ -1,7 +1,7 @@
 //! At rest at an equilibrium every method stays there. Gonzalez's correction `c/|Δq|²` is
 //! 0/0 there in exact arithmetic and rounding over rounding in doubles: DD's Jacobian came out
 //! singular on the mobile robot (`dd::is_rounding`), and its solve for the driver's speed
-//! alone had no root (`dd_reduced`, which hands that step to the general solve).
+//! alone had no root (`dd::reduced`, which hands that step to the general solve).
 
 use nhlab_core::systems::{CvtPendulum, MobileRobot};
 use nhlab_core::{Method, State, System, Vector};

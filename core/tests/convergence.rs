@@ -6,7 +6,7 @@ use nhlab_core::systems::{KnifeEdge, RollingDisk};
 use nhlab_core::{Method, MethodSpec, State, System, Vector};
 use std::f64::consts::FRAC_PI_2;
 
-/// Knife edge, ε = 0, from q(0) = (0, 0, π/2), q̇(0) = (0, 0, 1) (issue 2).
+/// Knife edge, ε = 0, from q(0) = (0, 0, π/2), q̇(0) = (0, 0, 1).
 fn knife_exact(t: f64) -> (Vector<3>, Vector<3>) {
     let (s, c) = t.sin_cos();
     let q =

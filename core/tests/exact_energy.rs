@@ -1,8 +1,8 @@
-//! DD's energy at round-off, flat, where V is quadratic (issue 4): its step ends in
-//! double-double (`exact_energy`), so |H − H(0)| stays at a few ulps of H's terms however
+//! DD's energy at round-off, flat, where V is quadratic: its step ends in
+//! double-double (`dd::closed_form`), so |H − H(0)| stays at a few ulps of H's terms however
 //! long the run. In doubles it grew: linearly on the paper's knife edge at h = π/10, whose
 //! discrete orbit repeats every 20 steps and with it every rounding (2.5·10⁻¹¹ after 10⁸
-//! steps, `docs/benchmarks.md`). DD's general path, which still runs in doubles, shows the
+//! steps). DD's general path, which still runs in doubles, shows the
 //! difference the test is about: printed beside, and asserted to be larger on that orbit so
 //! that the test cannot pass by measuring nothing. DD-AVF is the same method where V is
 //! quadratic and takes the same end, so it is held to the same bound.

@@ -1,6 +1,6 @@
-//! The coupled fast paths (issue 4: DLA^α's and DLA^{0,1}'s, on `cvt` and `particle`), DD's
-//! (and DD-AVF's) closed form where V is quadratic (`exact_energy`) and DD's solve for the
-//! driver's speed on the mobile robot (`dd_reduced`), against the general Newton solves: from
+//! The coupled fast paths (DLA^α's and DLA^{0,1}'s, on `cvt` and `particle`), DD's
+//! (and DD-AVF's) closed form where V is quadratic (`dd::closed_form`) and DD's solve for the
+//! driver's speed on the mobile robot (`dd::reduced`), against the general Newton solves: from
 //! every state of a trajectory on every system (each preset), one step of each gives the same
 //! `(q₁, q̇₁, λ₁)` to 1e-13 (relative to the state's size). Steps are compared one at a time
 //! from the same state, not as whole trajectories, whose sensitivity would amplify the
@@ -82,7 +82,7 @@ fn a_different_method_is_caught() {
 }
 
 /// DLA^α's and DLA^{0,1}'s fast paths run only where they measured at least 2× their general
-/// paths (issue 4): on `cvt` and `particle`. Elsewhere `fast_path: true` takes the general
+/// paths: on `cvt` and `particle`. Elsewhere `fast_path: true` takes the general
 /// solve, so the comparison above holds there trivially.
 #[test]
 fn dla_fast_paths_run_where_they_pay() {
@@ -111,7 +111,7 @@ fn mean_energy_change<S: System<N, R>, const N: usize, const R: usize>(
     let (sys, mut st, preset_h) = preset_start::<S, N, R>(preset);
     let mut memory = general.memory();
     let h = h.unwrap_or(preset_h);
-    // The state's value: with the compensations, which carry DD's exact end (`exact_energy`).
+    // The state's value: with the compensations, which carry DD's exact end (`dd::closed_form`).
     let energy = |s: &nhlab_core::State<N, R>| {
         let (q, v) = (s.q + s.q_compensation, s.v + s.v_compensation);
         let (kinetic, potential) = (0.5 * v.norm_squared(), sys.potential(&q));
@@ -153,8 +153,8 @@ fn unbiased<S: System<N, R>, const N: usize, const R: usize>() {
 
 /// A fast path can take the general path's steps to 10⁻¹³ each and still bias DD's or
 /// DD-AVF's energy by a rounding whose sign does not average out: 5·10⁻¹⁷ of H per step in
-/// DD's `(σ, ε)` experiment (`docs/benchmarks-history.md`), a linear drift of 5·10⁻⁹ over 10⁸
-/// steps, which the test above cannot see. Measured on every path as it is: ≤ 2.9·10⁻¹⁸ (DD
+/// DD's `(σ, ε)` experiment (`git show 3afd52e:docs/benchmarks-history.md`), a linear drift
+/// of 5·10⁻⁹ over 10⁸ steps, which the test above cannot see. Measured on every path as it is: ≤ 2.9·10⁻¹⁸ (DD
 /// on the mobile robot, whose solve for σ in closed-form w measured 3.3·10⁻¹⁷ and failed).
 #[test]
 fn energy_conserving_fast_paths_do_not_bias_the_energy() {

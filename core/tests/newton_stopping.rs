@@ -7,7 +7,7 @@
 //! equations are affine but for the driver's speed, the bilinear one (`newton::solve`); this
 //! checks both.
 //!
-//! Measured (2026-11-25), relative to the state's size: DLA^α ≤ 1.7·10⁻¹⁴ (`cvt_pendulum`,
+//! Measured, relative to the state's size: DLA^α ≤ 1.7·10⁻¹⁴ (`cvt_pendulum`,
 //! rotating and perturbed), DLA^{0,1} ≤ 5.3·10⁻¹⁶, DD ≤ 3.3·10⁻¹⁴ (where its Gonzalez term's
 //! rounding is the floor), DD-AVF ≤ 4.8·10⁻¹⁵. Newton converges so fast here that a looser
 //! tolerance alone (even 10⁻⁶) still passes; what fails is a wrong estimate: taking the

@@ -1,4 +1,4 @@
-//! Measured method properties (issue 5), and the new methods' guarantees. The paper's table
+//! Measured method properties, and the new methods' guarantees. The paper's table
 //! "Preserves fibration / Preserves reversibility" is reproduced on the CVT with pendulum
 //! driver: DD reversible but not fibration-preserving, DLA^0.4 not reversible, the other
 //! three both. RK4 must be caught leaving the constraint manifold.

@@ -54,7 +54,7 @@ fn tolerance_halving_on_the_rotating_cvt() {
     assert!(b.evaluations > a.evaluations);
 }
 
-/// The work–precision scene of docs/benchmarks.md: ζ ≈ 7000 at t = 3000. The default
+/// The work–precision scene of `docs/performance.md`: ζ ≈ 7000 at t = 3000. The default
 /// tolerance agrees with one three times tighter to ~1e-9; the rotating driver's angle is
 /// kept near 0 by whole turns (before, with ζ itself carried, 1e-13 and 3e-14 differed by
 /// 2e-7 and tighter solves hit round-off).

@@ -1,4 +1,4 @@
-//! Stability under stress (issue 4): for every method × system, sweep the step upward and
+//! Stability under stress: for every method × system, sweep the step upward and
 //! record the largest h for which the run stays finite, Newton converges and every energy
 //! error (H, E and h) stays below the stated bound `max |I − I(0)| ≤ 0.1 · max(1, |I(0)|)`. Every run, however
 //! large its step, must end — `ok` or `failed` with a message naming the step — never panic

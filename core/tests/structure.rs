@@ -117,7 +117,7 @@ fn dd_conserves_energy_over_1e5_steps() {
 /// On a rotating driver ζ grows without bound (to 2.3·10⁴ here). Stepped as it is, ζ is
 /// stored to ulp(ζ), 4·10⁻¹² at the end, V_d and A are evaluated at that rounded angle, and
 /// DD's energy error walks to 2.6·10⁻¹¹ of H over these 10⁵ steps, 25× more from
-/// ζ₀ + 2π·50000 (measured 2026-11-23). The driver takes whole turns off ζ after every step
+/// ζ₀ + 2π·50000. The driver takes whole turns off ζ after every step
 /// (`State::take_whole_turns`), which leaves 7·10⁻¹⁴ from either start, for DD and DD-AVF.
 #[test]
 fn dd_energy_on_a_rotating_driver_does_not_grow_with_the_angle() {
