@@ -5,7 +5,8 @@
 //! Newton solves take their general paths here. κ = 0 is `cvt_pendulum`.
 
 use super::CvtPendulum;
-use crate::model::system::{DriverTerms, ParamSpec, Preset, System, SystemInfo};
+use super::cvt_pendulum::{EPSILON, V_OSC, V_ROT, paper};
+use crate::model::system::{DriverTerms, ParamSpec, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 
 /// The CVT with a pendulum driver perturbed by `ε` and a passenger potential stiffened by `κ`.
@@ -17,36 +18,12 @@ pub struct AnharmonicCvt {
     pub kappa: f64,
 }
 
-const Q0: &[f64] = &[1.0, 1.0, 0.0];
-const V_OSC: &[f64] = &[0.0, 0.0, 1.897_366_6];
-const V_ROT: &[f64] = &[0.0, 0.0, 2.828_427_12];
-
-const fn paper(id: &'static str, label: &'static str, eps: f64, v: &'static [f64]) -> Preset {
-    Preset {
-        id,
-        label,
-        params: if eps == 0.0 { &[("epsilon", 0.0)] } else { &[("epsilon", 0.5)] },
-        q: Q0,
-        v,
-        step: 0.1,
-        t_end: 3000.0,
-    }
-}
-
 static INFO: SystemInfo = SystemInfo {
     id: "anharmonic_cvt",
     name: "CVT, pendulum driver, anharmonic passenger",
     description: "cvt_pendulum with the passenger potential ½|x|² + (κ/4)|x|⁴: the general paths of the implicit methods; κ = 0 is cvt_pendulum.",
     params: &[
-        ParamSpec {
-            name: "epsilon",
-            default: 0.0,
-            min: -10.0,
-            max: 10.0,
-            min_open: false,
-            max_open: false,
-            description: "perturbation ε of the driver potential 1 − cos ζ − ε sin(2ζ)/2",
-        },
+        EPSILON,
         ParamSpec {
             name: "kappa",
             default: 1.0,

@@ -14,12 +14,24 @@ pub struct CvtPendulum {
     pub epsilon: f64,
 }
 
+/// ε, the driver's perturbation (shared with `anharmonic_cvt`).
+pub(crate) const EPSILON: ParamSpec = ParamSpec {
+    name: "epsilon",
+    default: 0.0,
+    min: -10.0,
+    max: 10.0,
+    min_open: false,
+    max_open: false,
+    description: "perturbation ε of the driver potential 1 − cos ζ − ε sin(2ζ)/2",
+};
+
 const Q0: &[f64] = &[1.0, 1.0, 0.0];
 // The paper's initial driver speeds: H(0) = 2.8 (oscillating) and 5.0 (rotating).
-const V_OSC: &[f64] = &[0.0, 0.0, 1.897_366_6];
-const V_ROT: &[f64] = &[0.0, 0.0, 2.828_427_12];
+pub(crate) const V_OSC: &[f64] = &[0.0, 0.0, 1.897_366_6];
+pub(crate) const V_ROT: &[f64] = &[0.0, 0.0, 2.828_427_12];
 
-const fn paper(id: &'static str, label: &'static str, eps: f64, v: &'static [f64]) -> Preset {
+/// A preset from the paper's CVT initial state `q = (1, 1, 0)`, driver speed `v`, ε = 0 or 0.5.
+pub(crate) const fn paper(id: &'static str, label: &'static str, eps: f64, v: &'static [f64]) -> Preset {
     Preset {
         id,
         label,
@@ -35,15 +47,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "cvt_pendulum",
     name: "CVT, pendulum driver",
     description: "Continuously variable transmission driven by a pendulum ζ through ẋ₁ + sin ζ ẋ₂ = 0; ε breaks the driver's reversibility.",
-    params: &[ParamSpec {
-        name: "epsilon",
-        default: 0.0,
-        min: -10.0,
-        max: 10.0,
-        min_open: false,
-        max_open: false,
-        description: "perturbation ε of the driver potential 1 − cos ζ − ε sin(2ζ)/2",
-    }],
+    params: &[EPSILON],
     integrals: &[
         Integral::Energy,
         Integral::PassengerEnergy,
