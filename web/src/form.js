@@ -2,7 +2,8 @@
 // showing errors next to the field an API error's `path` names (`params.epsilon`,
 // `methods[1].alpha`, `q[2]`, …). Every field carries a `data-path` for that lookup.
 
-import { defaultWindow, findPreset, findSystem, parseList } from './state.js';
+import { defaultWindow, findPreset, findSystem } from './catalog.js';
+import { parseList } from './state.js';
 import { runColor } from './plots.js';
 
 const $ = (id) => document.getElementById(id);
@@ -77,7 +78,7 @@ export class Form {
       if (Number.isFinite(p.max)) input.max = p.max;
       setNumber(input, params[p.name] ?? p.default);
       input.title = p.description ?? p.name;
-      wrap.append(document.createTextNode(`${SYMBOLS[p.name] ?? p.name} =`), input);
+      wrap.append(el('span', 'method-param-name', `${GREEK[p.name] ?? p.name} =`), input);
       row.append(wrap);
     }
     const remove = el('button', 'icon', '×');
@@ -133,6 +134,7 @@ export class Form {
     if (methods.length === 0) invalid.push({ path: 'methods', message: 'choose at least one method' });
     const integrals = [...$('integrals').querySelectorAll('input:checked')].map((b) => b.value);
     if (integrals.length === 0) invalid.push({ path: 'integrals', message: 'choose at least one integral' });
+    const t_end = number($('t_end'), 't_end');
     const state = {
       system: system.id,
       preset: $('preset').value,
@@ -140,13 +142,14 @@ export class Form {
       q: list('q'),
       v: list('v'),
       step: number($('step'), 'step'),
-      t_end: number($('t_end'), 't_end'),
+      t_end,
       points: number($('points'), 'points'),
       methods,
       integrals,
       stat: $('stat').value,
       smooth: $('smooth').checked,
-      window: number($('window'), 'window') ?? defaultWindow(system.id),
+      // An empty window: the default for the final time (the preset's when that is empty too).
+      window: number($('window'), 'window') ?? defaultWindow(t_end ?? findPreset(system, $('preset').value)?.t_end),
       run: false,
     };
     return { state, invalid };
@@ -234,10 +237,15 @@ export class Form {
   }
 }
 
-const SYMBOLS = { epsilon: 'ε', alpha: 'α' };
+// A parameter named after a Greek letter is shown as the letter.
+const GREEK = Object.fromEntries(
+  'alpha beta gamma delta epsilon zeta eta theta iota kappa lambda mu nu xi omicron pi rho sigma tau upsilon phi chi psi omega'
+    .split(' ')
+    .map((name, i) => [name, String.fromCodePoint(0x3b1 + i + (i >= 17 ? 1 : 0))]),
+);
 
 function paramSymbol(name) {
-  return SYMBOLS[name] ? `${SYMBOLS[name]} (${name})` : name;
+  return GREEK[name] ? `${GREEK[name]} (${name})` : name;
 }
 
 // (-1, 1) for open bounds, [-10, 10] for closed ones.

@@ -15,7 +15,8 @@ import { WorkPrecisionView } from './workprecision.js';
 import { Plots } from './plots.js';
 import { Result } from './result.js';
 import { renderRuns } from './runs.js';
-import { EXPERIMENTS, decodeState, defaultState, encodeState, findPreset, findSystem, requestBody } from './state.js';
+import { defaultWindow, paperExperiments } from './catalog.js';
+import { decodeState, defaultState, encodeState, requestBody } from './state.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -44,7 +45,7 @@ async function start() {
   if (warnings.length) banner($('load-error'), warnings.join('; '));
   wire();
   views.scorecard = new ScorecardView($('view-scorecard'), { catalog, onOpen: openScene });
-  views.paper = new PaperView($('view-paper'));
+  views.paper = new PaperView($('view-paper'), { catalog });
   views['work-precision'] = new WorkPrecisionView($('view-work-precision'), { read: () => form.read(), catalog });
   const wanted = new URLSearchParams(location.search).get('view');
   if (Object.hasOwn(views, wanted ?? '')) {
@@ -98,18 +99,19 @@ function openScene(scene, methods) {
   run();
 }
 
+// The paper's experiments (the catalog's paper scenes), each with the integrals its figures
+// show and its preset's running-mean window.
 function experimentButtons() {
-  const buttons = EXPERIMENTS.filter((x) => findPreset(findSystem(catalog, x.system), x.preset)).map((x) => {
-    const preset = findPreset(findSystem(catalog, x.system), x.preset);
+  const buttons = paperExperiments(catalog).map((x) => {
     const b = document.createElement('button');
     b.type = 'button';
     b.className = 'experiment';
     b.dataset.system = x.system;
     b.dataset.preset = x.preset;
-    b.textContent = preset.label.replace(/^Paper:\s*/, '');
+    b.textContent = x.label;
     b.addEventListener('click', () => {
       const state = defaultState(catalog, x.system, x.preset);
-      state.integrals = x.integrals;
+      state.integrals = [...x.integrals];
       state.smooth = true;
       form.fill(state);
       run();
@@ -174,11 +176,13 @@ function switchSystem() {
   form.fill(next);
 }
 
-// A new preset refills what presets define; methods, integrals and display stay.
+// A new preset refills what presets define; methods, integrals and display stay (the window
+// follows the new final time while it is the old one's default).
 function switchPreset() {
   const { state: current } = form.read();
   const next = defaultState(catalog, current.system, current.preset);
   if (current.preset === '') next.preset = '';
+  if (current.window === defaultWindow(current.t_end)) current.window = next.window;
   Object.assign(current, { params: next.params, q: next.q, v: next.v, step: next.step, t_end: next.t_end });
   form.fill(current);
 }

@@ -1,86 +1,44 @@
-// The Paper view: Modin & Verdier's figures side by side, computed live — the knife edge's
-// energy error (ε = 0 and 0.1) and the pendulum-driven CVT's passenger energy, driver energy
-// and latitude (oscillating and rotating driver, ε = 0 and 0.5) — with the paper's running
-// means (3 time units for the knife edge, 30 for the CVT), each figure with its caption and,
-// under each panel, the scorecard row that summarises it: the verdict of each method.
+// The Paper view: Modin & Verdier's figures side by side, computed live. Everything about
+// systems and methods comes from the /systems catalog (catalog.js): the scenes are its
+// `paper_scenes`, the methods its `default_methods`; each system of the scenes gets a figure
+// per integral its paper figures show (its total energy, or its split energies and hidden
+// integral) with a panel per scene, smoothed with the preset's default running mean; each
+// figure has a note on what the paper finds and, under each panel, the scorecard row that
+// summarises it: the verdict of each method.
 //
-// The six scenes are streamed one after another (the server admits a few simulations at once;
+// The scenes are streamed one after another (the server admits a few simulations at once;
 // a 503 is retried after its Retry-After), each feeding the panels that show it.
 
 import { retrying, simulate } from './api.js';
+import { defaultMethods, figureScenes, paperFigures } from './catalog.js';
 import { Plots } from './plots.js';
 import { Result } from './result.js';
-import { PAPER_METHODS, requestBody } from './state.js';
+import { requestBody } from './state.js';
 import { VERDICTS, verdictTitle } from './verdicts.js';
 
-const KNIFE = [
-  { system: 'knife_edge', preset: 'paper', title: 'ε = 0' },
-  { system: 'knife_edge', preset: 'paper-perturbed', title: 'ε = 0.1' },
-];
-const CVT = [
-  { system: 'cvt_pendulum', preset: 'oscillating', title: 'oscillating driver, ε = 0' },
-  { system: 'cvt_pendulum', preset: 'rotating', title: 'rotating driver, ε = 0' },
-  { system: 'cvt_pendulum', preset: 'oscillating-perturbed', title: 'oscillating driver, ε = 0.5' },
-  { system: 'cvt_pendulum', preset: 'rotating-perturbed', title: 'rotating driver, ε = 0.5' },
-];
+/** What the paper finds about each integral's error, in terms of the methods' properties. */
+export const PAPER_NOTES = {
+  energy:
+    'Without perturbation (ε = 0) the reversible methods keep the energy error bounded, a method that is not reversible drifts, and one that conserves the energy by construction keeps it exact. A perturbation that breaks reversibility (ε ≠ 0) makes every method drift except those that conserve the energy by construction.',
+  passenger_energy:
+    'The reversible methods keep the passenger energy nearly conserved while the driver stays reversible; a method that is not reversible drifts. With a rotating, perturbed driver the energy drifts systematically for all of the paper’s methods but one.',
+  driver_energy:
+    'A method whose discrete gradient couples the driver to the passenger fails to nearly conserve the driver energy. The driver is a Hamiltonian system of its own: a method symplectic on it keeps its energy nearly conserved, even when the method is not reversible.',
+  latitude:
+    'Reversible KAM theory explains the near conservation by reversible methods: with an oscillating driver, or without perturbation, every reversible method keeps the latitude bounded. With a rotating, perturbed driver all of the paper’s methods but one fail — an open problem of the paper.',
+};
 
-/** The paper's figures: what each shows, its running-mean window and its caption. */
-export const FIGURES = [
-  {
-    id: 'knife-energy',
-    title: 'Knife edge: energy error |H − H(0)|',
-    integral: 'energy',
-    window: 3,
-    panels: KNIFE,
-    caption:
-      'ε = 0: the reversible methods (DLA^0.5, DLA^{0,1}, LF) keep the energy error bounded; DLA^0.4, not reversible, drifts; DD conserves the energy exactly. ε = 0.1 (a perturbation that breaks reversibility): every method drifts except DD, which conserves energy by construction.',
-  },
-  {
-    id: 'cvt-passenger',
-    title: 'CVT: passenger energy error |E − E(0)|',
-    integral: 'passenger_energy',
-    window: 30,
-    panels: CVT,
-    caption:
-      'The reversible methods keep the passenger energy nearly conserved while the driver stays reversible; DLA^0.4 drifts. With the rotating driver and ε = 0.5 (bottom right) the energy drifts systematically for every method but LF.',
-  },
-  {
-    id: 'cvt-driver',
-    title: 'CVT: driver energy error |h − h(0)|',
-    integral: 'driver_energy',
-    window: 30,
-    panels: CVT,
-    caption:
-      'Only DD fails to nearly conserve the driver energy (its discrete gradient couples the driver to the passenger). Even DLA^0.4 behaves well: the driver is a Hamiltonian system of its own and DLA^0.4 is symplectic on it.',
-  },
-  {
-    id: 'cvt-latitude',
-    title: 'CVT: latitude error |ℓ − ℓ(0)| (hidden integral, at the section crossings)',
-    integral: 'latitude',
-    window: 30,
-    panels: CVT,
-    caption:
-      'Reversible KAM theory explains the near conservation for reversible methods: with the oscillating driver, or with ε = 0, every reversible method keeps the latitude bounded. With the rotating driver and ε = 0.5 every method fails except LF — an open problem of the paper.',
-  },
-];
-
-/** The scenes to stream: each paper scene once, with the integrals its panels show. */
-export function paperScenes() {
-  const scenes = new Map();
-  for (const f of FIGURES) {
-    for (const p of f.panels) {
-      const key = `${p.system}/${p.preset}`;
-      if (!scenes.has(key)) scenes.set(key, { system: p.system, preset: p.preset, integrals: [] });
-      const s = scenes.get(key);
-      if (!s.integrals.includes(f.integral)) s.integrals.push(f.integral);
-    }
-  }
-  return [...scenes.values()];
+/** The figures of the view, each with its caption's note. */
+export function figures(catalog) {
+  return paperFigures(catalog).map((f) => ({ ...f, note: PAPER_NOTES[f.integral] ?? '' }));
 }
 
+
 export class PaperView {
-  constructor(root) {
+  constructor(root, { catalog }) {
     this.root = root;
+    this.figureList = figures(catalog);
+    this.methods = defaultMethods(catalog);
     this.status = root.querySelector('.view-status');
     this.figures = root.querySelector('.paper-figures');
     this.panels = []; // {key, integral, window, plots, summary}
@@ -97,7 +55,7 @@ export class PaperView {
   #build() {
     for (const p of this.panels) p.plots.destroy();
     this.panels = [];
-    const figures = FIGURES.map((f) => {
+    const nodes = this.figureList.map((f) => {
       const fig = el('figure', 'paper-figure');
       fig.dataset.figure = f.id;
       fig.append(el('h3', 'figure-title', f.title));
@@ -112,14 +70,16 @@ export class PaperView {
         summary.append(el('span', 'pending', 'verdicts: waiting for the runs…'));
         panel.append(plotBox, summary);
         grid.append(panel);
-        this.panels.push({ key: panel.dataset.scene, integral: f.integral, window: f.window, plots: new Plots(plotBox), summary });
+        this.panels.push({ key: panel.dataset.scene, integral: f.integral, window: p.window, plots: new Plots(plotBox), summary });
       }
       const caption = el('figcaption', 'figure-caption');
-      caption.append(el('strong', '', 'The paper: '), f.caption, ` Running mean over ${f.window} time units; step and span as in the paper.`);
+      if (f.note) caption.append(el('strong', '', 'The paper: '), `${f.note} `);
+      const windows = [...new Set(f.panels.map((p) => p.window))].join(' or ');
+      caption.append(`Running mean over ${windows} time units; step and span as in the paper.`);
       fig.append(grid, caption);
       return fig;
     });
-    this.figures.replaceChildren(...figures);
+    this.figures.replaceChildren(...nodes);
   }
 
   async load() {
@@ -128,7 +88,7 @@ export class PaperView {
     this.controller = mine;
     this.done = false;
     this.#build();
-    const scenes = paperScenes();
+    const scenes = figureScenes(this.figureList);
     try {
       for (const [i, scene] of scenes.entries()) {
         this.#status('running', `Computing scene ${i + 1} of ${scenes.length}: ${scene.system}/${scene.preset}…`);
@@ -136,7 +96,7 @@ export class PaperView {
         if (this.controller !== mine) return;
       }
       this.done = true;
-      this.#status('done', `Done: ${scenes.length} scenes, ${this.panels.length} panels, ${PAPER_METHODS.length} methods each.`);
+      this.#status('done', `Done: ${scenes.length} scenes, ${this.panels.length} panels, ${this.methods.length} methods each.`);
     } catch (e) {
       if (this.controller !== mine || e.name === 'AbortError') return;
       this.#status('error', `The paper's figures failed: ${e.message}`);
@@ -156,7 +116,7 @@ export class PaperView {
       v: [],
       step: null,
       t_end: null,
-      methods: PAPER_METHODS,
+      methods: this.methods,
       integrals: scene.integrals,
       points: 1000,
     });

@@ -13,7 +13,7 @@ export function runColor(i) {
 }
 
 /** The line width of run `i`: earlier runs are wider, so a curve hidden under a later identical
- * one (DLA^0.5 and DLA^{0,1} coincide on the knife edge) still shows as a halo. */
+ * one (two methods can coincide on a system) still shows as a halo. */
 export function runWidth(i) {
   return Math.max(1.25, 2.8 - 0.35 * i);
 }

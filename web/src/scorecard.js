@@ -5,9 +5,8 @@
 // in the main view with the scorecard's methods.
 
 import { ApiError, fetchScorecard, retrying } from './api.js';
+import { findPreset, findSystem, presetLabel, systemShortName } from './catalog.js';
 import { INTEGRAL_NAME, INTEGRAL_SHORT, VERDICTS, propertyMark, sceneIntegrals, systemsOf, verdictTitle } from './verdicts.js';
-
-const SYSTEM_SHORT = { knife_edge: 'knife', cvt_pendulum: 'CVT' };
 
 export class ScorecardView {
   /** `onOpen(scene, methods)`: show a scene's plots in the main view. */
@@ -32,7 +31,7 @@ export class ScorecardView {
     this.controller?.abort();
     const mine = new AbortController();
     this.controller = mine;
-    this.#status('running', 'Computing the scorecard: every method on the paper’s six scenes…');
+    this.#status('running', 'Computing the scorecard: every method on the paper’s scenes…');
     try {
       this.card = await retrying(
         () => fetchScorecard({}, { signal: mine.signal }),
@@ -78,7 +77,7 @@ export class ScorecardView {
       for (const [short, long] of [['rev', 'reversible'], ['fib', 'preserves the fibration']]) {
         const th = el('th', 'prop-head', short);
         th.title = `${long} on ${system}`;
-        const sub = el('small', '', SYSTEM_SHORT[system] ?? system);
+        const sub = el('small', '', systemShortName(findSystem(this.catalog, system)) || system);
         th.append(el('br'), sub);
         head2.append(th);
       }
@@ -147,9 +146,8 @@ export class ScorecardView {
 
 /** A scene's column label: the preset's label without "Paper: ", else its id. */
 export function sceneLabel(catalog, s) {
-  const system = catalog.systems.find((x) => x.id === s.scene.system);
-  const preset = system?.presets?.find((p) => p.id === s.scene.preset);
-  const label = preset?.label?.replace(/^Paper:\s*/, '') ?? s.id;
+  const preset = findPreset(findSystem(catalog, s.scene.system), s.scene.preset);
+  const label = preset ? presetLabel(preset) : s.id;
   return s.id.includes('#') ? `${label} (${s.id.split('#')[1]})` : label;
 }
 

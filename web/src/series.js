@@ -1,7 +1,8 @@
 // What the plots show of an error series: the chosen per-bucket statistic, optionally smoothed
 // by the paper's running mean, with values below the floor lifted to it. A log axis cannot
-// show 0, and dd's energy error is 0 or round-off: such points sit on a marked floor line
-// instead of spiking to the bottom of the axis. Pure functions, so node tests cover them.
+// show 0, and an energy-conserving method's energy error is 0 or round-off: such points sit
+// on a marked floor line instead of spiking to the bottom of the axis. Pure functions, so
+// node tests cover them.
 
 /** Errors below this are shown at it (exact within round-off). */
 export const FLOOR = 1e-16;

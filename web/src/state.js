@@ -1,55 +1,22 @@
 // The page state and its URL form, so a link reproduces a plot. The query string holds the
 // system and preset always, and every other field only where it differs from what the preset
 // (or the page) would choose, which keeps the paper's links short:
-//   ?system=knife_edge&preset=paper-perturbed&smooth=1&run=1
+//   ?system=<system id>&preset=<preset id>&smooth=1&run=1
 // Methods are written `id` or `id:p1:p2` (parameters in the order /systems lists them), e.g.
-// `methods=dla:0.5,dla:0.4,dla01,leapfrog,dd`. Pure functions over the /systems catalog.
+// `methods=<id>:0.5,<id>:0.4,<id>`. The defaults (methods, window) come from the catalog by
+// the rules of catalog.js. Pure functions over the /systems catalog.
 
-/** The paper's five methods (the API's default too). */
-export const PAPER_METHODS = [
-  { id: 'dla', params: { alpha: 0.5 } },
-  { id: 'dla', params: { alpha: 0.4 } },
-  { id: 'dla01', params: {} },
-  { id: 'leapfrog', params: {} },
-  { id: 'dd', params: {} },
-];
+import { defaultMethods, defaultWindow, findPreset, findSystem } from './catalog.js';
 
-/** The paper's six experiments: a preset and the integrals its figures show. */
-export const EXPERIMENTS = [
-  { system: 'knife_edge', preset: 'paper', integrals: ['energy'] },
-  { system: 'knife_edge', preset: 'paper-perturbed', integrals: ['energy'] },
-  ...['oscillating', 'rotating', 'oscillating-perturbed', 'rotating-perturbed'].map((preset) => ({
-    system: 'cvt_pendulum',
-    preset,
-    integrals: ['passenger_energy', 'driver_energy', 'latitude'],
-  })),
-];
+export { defaultWindow, findPreset, findSystem };
 
-/** The paper's running-mean windows (time units). */
-const PAPER_WINDOWS = { knife_edge: 3, cvt: 30, cvt_pendulum: 30 };
-
-/** The default running-mean window for a system: the paper's, else a hundredth of t_end. */
-export function defaultWindow(systemId, tEnd) {
-  if (systemId in PAPER_WINDOWS) return PAPER_WINDOWS[systemId];
-  const w = (tEnd ?? 100) / 100;
-  return Number(w.toPrecision(1));
-}
-
-export function findSystem(catalog, id) {
-  return catalog.systems.find((s) => s.id === id);
-}
-
-export function findPreset(system, id) {
-  return system?.presets?.find((p) => p.id === id);
-}
-
-/** The state the page starts from for a system and preset (the preset's values, the paper's methods). */
+/** The state the page starts from for a system and preset (the preset's values, the catalog's
+ *  default methods, the preset's default window). */
 export function defaultState(catalog, systemId, presetId) {
   const system = findSystem(catalog, systemId) ?? catalog.systems[0];
   const preset = findPreset(system, presetId) ?? system.presets?.[0];
   const params = Object.fromEntries(system.params.map((p) => [p.name, p.default]));
   Object.assign(params, preset?.params ?? {});
-  const known = new Set(catalog.methods.map((m) => m.id));
   return {
     system: system.id,
     preset: preset?.id ?? '',
@@ -59,11 +26,11 @@ export function defaultState(catalog, systemId, presetId) {
     step: preset?.step ?? null,
     t_end: preset?.t_end ?? null,
     points: 1000,
-    methods: PAPER_METHODS.filter((m) => known.has(m.id)).map((m) => ({ id: m.id, params: { ...m.params } })),
+    methods: defaultMethods(catalog),
     integrals: [...system.integrals],
     stat: 'mean',
     smooth: false,
-    window: defaultWindow(system.id, preset?.t_end),
+    window: defaultWindow(preset?.t_end),
     run: false,
   };
 }

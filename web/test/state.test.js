@@ -22,6 +22,15 @@ const catalog = {
     { id: 'leapfrog', params: [] },
     { id: 'dd', params: [] },
   ],
+  // As GET /systems sends them: parameter values inline, with the label.
+  default_methods: [
+    { id: 'dla', alpha: 0.5, label: 'DLA^0.5' },
+    { id: 'dla', alpha: 0.4, label: 'DLA^0.4' },
+    { id: 'dla01', label: 'DLA^{0,1}' },
+    { id: 'leapfrog', label: 'LF' },
+    { id: 'dd', label: 'DD' },
+  ],
+  paper_scenes: [{ system: 'knife_edge', preset: 'paper' }, { system: 'knife_edge', preset: 'paper-perturbed' }, { system: 'cvt_pendulum', preset: 'rotating' }],
 };
 
 test('a preset with defaults encodes to a short link', () => {
@@ -70,4 +79,38 @@ test('the request body uses the API names', () => {
   assert.equal(body.system, 'knife_edge');
   assert.equal(body.preset, 'paper');
   assert.equal(body.points, 1000);
+});
+
+test('the default methods are the catalog ones, with their parameters', () => {
+  const s = defaultState(catalog, 'knife_edge', 'paper');
+  assert.deepEqual(s.methods, [
+    { id: 'dla', params: { alpha: 0.5 } },
+    { id: 'dla', params: { alpha: 0.4 } },
+    { id: 'dla01', params: {} },
+    { id: 'leapfrog', params: {} },
+    { id: 'dd', params: {} },
+  ]);
+  // Each state gets its own copies.
+  s.methods[0].params.alpha = 0.1;
+  assert.equal(defaultState(catalog, 'knife_edge', 'paper').methods[0].params.alpha, 0.5);
+  // A catalog without default_methods starts from every method with its defaults.
+  const bare = { ...catalog, default_methods: undefined };
+  assert.deepEqual(defaultState(bare, 'knife_edge').methods.map((m) => m.id), ['dla', 'dla01', 'leapfrog', 'dd']);
+});
+
+test('links written by the page before still decode to the same state', () => {
+  // The paper's link: the default methods and the paper's window (3 for the knife edge).
+  const { state, warnings } = decodeState('system=knife_edge&preset=paper-perturbed&smooth=1&run=1', catalog);
+  assert.deepEqual(warnings, []);
+  assert.equal(state.window, 3);
+  assert.equal(state.smooth, true);
+  assert.equal(state.run, true);
+  assert.equal(state.params.epsilon, 0.1);
+  assert.deepEqual(state.methods.map((m) => [m.id, m.params.alpha]), [['dla', 0.5], ['dla', 0.4], ['dla01', undefined], ['leapfrog', undefined], ['dd', undefined]]);
+  assert.equal(decodeState('system=cvt_pendulum&preset=rotating&smooth=1', catalog).state.window, 30);
+  // The methods written out in full are the defaults: they re-encode to the short link.
+  const full = decodeState('system=knife_edge&preset=paper&methods=dla:0.5,dla:0.4,dla01,leapfrog,dd', catalog).state;
+  assert.equal(encodeState(full, catalog), 'system=knife_edge&preset=paper');
+  // An explicit window still wins.
+  assert.equal(decodeState('system=knife_edge&preset=paper&smooth=1&window=7', catalog).state.window, 7);
 });
