@@ -60,6 +60,25 @@ def post(base, path, body, stream=False):
     return events
 
 
+def by_run(events):
+    """A stream as each run's own events: runs compute in parallel, so the interleaving of
+    their events varies from one request to the next, and each `points` event holds whatever
+    buckets were ready; what a stream must reproduce is, per run, the concatenated series
+    and the `run` event, after the `scene` and before the `done` event."""
+    runs = {}
+    for e in events:
+        data = e["data"] or {}
+        if e["event"] == "points":
+            series = runs.setdefault(data["run"], {}).setdefault(data["integral"], {})
+            for k, v in data.items():
+                if k not in ("run", "integral"):
+                    series.setdefault(k, []).extend(v if isinstance(v, list) else [v])
+        elif e["event"] == "run":
+            runs.setdefault(data["run"], {})["run"] = data
+    other = [e for e in events if e["event"] not in ("points", "run")]
+    return {"events": other, "runs": {str(k): v for k, v in sorted(runs.items())}}
+
+
 def strip(x):
     if isinstance(x, dict):
         return {k: strip(v) for k, v in x.items() if k not in TIMING and not k.endswith("_ms")}
@@ -85,7 +104,7 @@ def main():
             body = {"system": system, "preset": preset, "methods": METHODS, "points": 500}
             key = f"{system}/{preset}"
             snap["simulate " + key] = post(base, "/simulate", body)
-            snap["stream " + key] = post(base, "/simulate", body, stream=True)
+            snap["stream " + key] = by_run(post(base, "/simulate", body, stream=True))
         snap["scorecard"] = post(base, "/scorecard", {})
         snap["work-precision"] = post(
             base,
