@@ -22,10 +22,10 @@ pub(crate) async fn paper_view(client: &Client, driver: &Driver, base: &str) -> 
     assert_eq!(
         figures,
         &[
-            json!("knife-energy"),
-            json!("cvt-passenger"),
-            json!("cvt-driver"),
-            json!("cvt-latitude")
+            json!("knife_edge-energy"),
+            json!("cvt_pendulum-passenger_energy"),
+            json!("cvt_pendulum-driver_energy"),
+            json!("cvt_pendulum-latitude")
         ],
         "{report}"
     );
@@ -54,7 +54,7 @@ pub(crate) async fn paper_view(client: &Client, driver: &Driver, base: &str) -> 
         json!(["bounded", "drift", "bounded", "bounded", "exact"]),
         "the paper's knife-edge row: {knife}"
     );
-    js(client, "document.querySelector('[data-figure=\"cvt-latitude\"]').scrollIntoView();")
+    js(client, "document.querySelector('[data-figure=\"cvt_pendulum-latitude\"]').scrollIntoView();")
         .await?;
     screenshot(client, "paper-cvt.png").await;
     console_clean(driver, client, "paper view").await?;
