@@ -54,8 +54,11 @@ pub(crate) async fn paper_view(client: &Client, driver: &Driver, base: &str) -> 
         json!(["bounded", "drift", "bounded", "bounded", "exact"]),
         "the paper's knife-edge row: {knife}"
     );
-    js(client, "document.querySelector('[data-figure=\"cvt_pendulum-latitude\"]').scrollIntoView();")
-        .await?;
+    js(
+        client,
+        "document.querySelector('[data-figure=\"cvt_pendulum-latitude\"]').scrollIntoView();",
+    )
+    .await?;
     screenshot(client, "paper-cvt.png").await;
     console_clean(driver, client, "paper view").await?;
     println!("paper view: {} panels drawn with verdicts; screenshot {shot}", panels.len());
