@@ -18,11 +18,12 @@ use std::f64::consts::{PI, TAU};
 
 impl<const N: usize, const R: usize> State<N, R> {
     /// Takes whole turns off ζ once it has left [−π, π], for a system whose ζ is an angle
-    /// ([`ZETA_IS_ANGLE`](crate::System::ZETA_IS_ANGLE): `A` and `V_d` are 2π-periodic and `U` does
-    /// not depend on ζ, so the steps and the integrals are those of the same state). Returns the
-    /// turns taken; what `memory` keyed by the old q follows it. Why: ζ is stored to ulp(ζ), and
-    /// the systems' functions see only the stored ζ; on a rotating driver ζ grows without bound
-    /// (see the module's doc).
+    /// ([`ZETA_IS_ANGLE`](crate::System::ZETA_IS_ANGLE): `A` and `V_d` are 2π-periodic and `U`
+    /// does not depend on ζ, so the steps and the integrals are those of the same state), and
+    /// rekeys to the new q what `memory` had keyed by the old one. Returns the turns taken.
+    ///
+    /// Why: ζ is stored to ulp(ζ), and the systems' functions see only the stored ζ; on a
+    /// rotating driver ζ grows without bound (see the module's doc).
     #[inline]
     pub fn take_whole_turns(&mut self, memory: &mut impl Recall<N, R>) -> f64 {
         let zeta = self.q[N - 1];

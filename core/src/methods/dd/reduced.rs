@@ -48,9 +48,9 @@ use crate::solver::linalg;
 /// Whether DD takes this solve on a system: no passenger potential, two constraints whose
 /// passenger kernel [`passenger_kernel`] covers, and V_d not quadratic (where V is quadratic
 /// DD's step has a closed form, [`closed_form`](super::closed_form)). Of the test systems, the
-/// mobile robot. This solve is less than 2× faster than its general one, the least a fast path must
-/// gain, and is kept because without it DD on the mobile robot misses the 150 ns/step target
-/// (`docs/performance.md`).
+/// mobile robot. This solve is less than 2× faster than its general one, the least a fast
+/// path must gain, and is kept because without it DD on the mobile robot misses its speed
+/// target (`docs/performance.md`).
 pub(crate) const fn applies<S: System<N, R>, const N: usize, const R: usize>() -> bool {
     S::FREE_PASSENGER && !S::QUADRATIC_DRIVER && R == 2 && passenger_kernel::covers::<N, R>()
 }
