@@ -62,7 +62,7 @@ LUA
 
 echo "== 1. POST /simulate knife_edge/paper, $SLOTS connections (= slots), ${DURATION} s" >&2
 start_server --max-simulations "$SLOTS"
-curl -sf "$url/simulate" -d '{"system":"knife_edge","preset":"paper"}' -o "$work/one.json"
+curl -sf "$url/simulate" --json '{"system":"knife_edge","preset":"paper"}' -o "$work/one.json"
 echo "one answer: $(wc -c <"$work/one.json") bytes" >&2
 threads=$((SLOTS < 2 ? SLOTS : 2))
 wrk -t"$threads" -c"$SLOTS" -d"${DURATION}s" --latency -s "$work/knife_edge.lua" "$url/simulate" \

@@ -21,6 +21,12 @@ pub struct Config {
     /// gets 503 with `Retry-After` instead of waiting in a queue. A stream holds its slot
     /// until it ends.
     pub max_simulations: usize,
+    /// Most bytes one request's answer may hold at its peak (its series' buckets, columns and
+    /// JSON text, estimated before any work); more is a 422 with the estimate.
+    pub max_answer_bytes: u64,
+    /// Most bytes all answers in flight may hold together, including those still being
+    /// written to slow clients; a request that would exceed it gets 503.
+    pub max_inflight_bytes: u64,
     /// Origins allowed to call the API from a browser (CORS); empty: CORS off, only the
     /// page's own origin. `*` allows any.
     pub cors_origins: Vec<String>,
@@ -43,6 +49,8 @@ impl Default for Config {
             max_methods: 16,
             max_body_bytes: 64 * 1024,
             max_simulations: std::thread::available_parallelism().map_or(2, |n| n.get()),
+            max_answer_bytes: 64 << 20,
+            max_inflight_bytes: 256 << 20,
             cors_origins: Vec::new(),
             report_every: Duration::from_millis(200),
             #[cfg(debug_assertions)]

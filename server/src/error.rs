@@ -1,14 +1,15 @@
 //! [`AppError`]: every error the API returns, as `{"error": "...", "path": "methods[1].alpha"}`
 //! with a fitting status: 400 for a body that is not the JSON we read (syntax, types,
 //! unknown fields), 422 for well-formed input that is wrong (unknown names, lengths,
-//! ranges, limits), 413 for an oversized body, 503 (with `Retry-After`) when every simulation
-//! slot is taken or the server is shutting down, 500 for our own faults.
+//! ranges, limits), 413 for an oversized body, 415 for a body not sent as JSON, 503 (with
+//! `Retry-After`) when every simulation slot is taken or the server is shutting down, 500
+//! for our own faults.
 
 use axum::Json;
 use axum::extract::rejection::BytesRejection;
 use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
-use nhlab_core::InputError;
+use nhlab_core::{InputError, Short};
 use serde::Serialize;
 use utoipa::ToSchema;
 
@@ -57,6 +58,22 @@ impl AppError {
         Self { status: StatusCode::SERVICE_UNAVAILABLE, message: message.into(), path: None }
     }
 
+    /// A 415 for a body sent without a JSON `Content-Type` (`given`, if any).
+    pub fn unsupported_media_type(given: Option<&str>) -> Self {
+        let given = match given {
+            Some(v) => format!("got Content-Type: {}", v.chars().take(80).collect::<String>()),
+            None => "got no Content-Type".to_owned(),
+        };
+        Self {
+            status: StatusCode::UNSUPPORTED_MEDIA_TYPE,
+            message: format!(
+                "the body must be sent with Content-Type: application/json ({given}); with \
+                 curl: --json '{{...}}', or -H 'content-type: application/json' -d '{{...}}'"
+            ),
+            path: None,
+        }
+    }
+
     /// A 405 for a method a route does not take.
     pub fn method_not_allowed(method: &str, path: &str) -> Self {
         Self {
@@ -92,7 +109,7 @@ impl From<InputError> for AppError {
 impl From<serde_path_to_error::Error<serde_json::Error>> for AppError {
     fn from(e: serde_path_to_error::Error<serde_json::Error>) -> Self {
         let inner = e.inner();
-        let message = inner.to_string();
+        let message = shorten_numbers(&inner.to_string());
         let mut path = e.path().to_string();
         // serde reports a missing or unknown field at the object holding it; point at the
         // field itself.
@@ -152,6 +169,28 @@ impl AppError {
         };
         Self { status: e.status(), message, path: None }
     }
+}
+
+/// The message with every run of more than 17 digits (serde prints a float such as 1e308 in
+/// full, 309 digits) written as a short number with an exponent.
+fn shorten_numbers(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(start) = rest.find(|c: char| c.is_ascii_digit()) {
+        out.push_str(&rest[..start]);
+        let len = rest[start..]
+            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .unwrap_or(rest.len() - start);
+        let number = &rest[start..start + len];
+        let digits = number.bytes().filter(u8::is_ascii_digit).count();
+        match number.trim_end_matches('.').parse::<f64>() {
+            Ok(x) if digits > 17 => out.push_str(&Short(x).to_string()),
+            _ => out.push_str(number),
+        }
+        rest = &rest[start + len..];
+    }
+    out.push_str(rest);
+    out
 }
 
 fn backticked<'a>(message: &'a str, prefix: &str) -> Option<&'a str> {

@@ -3,12 +3,15 @@
 //! anything but one JSON object, and reads the object with `serde_path_to_error`, so that a
 //! wrong type or an unknown field is reported with its path. Its rejection is the API's
 //! [`AppError`]: 413 for an oversized body (naming the limit), 400 for a body that is not one
-//! JSON object of the right shape. The `Content-Type` header is not looked at.
+//! JSON object of the right shape. The body must come with a JSON `Content-Type`
+//! (`application/json` or `application/…+json`), else 415: a page of another site may post
+//! `text/plain` without a preflight, and must not start simulations that way.
 
 use crate::error::AppError;
 use crate::state::AppState;
 use axum::body::Bytes;
 use axum::extract::{FromRequest, Request};
+use axum::http::{HeaderValue, header};
 use serde::de::DeserializeOwned;
 
 /// A request body read as one JSON object into `T`.
@@ -19,6 +22,7 @@ impl<T: DeserializeOwned + Send> FromRequest<AppState> for JsonObject<T> {
     type Rejection = AppError;
 
     async fn from_request(req: Request, state: &AppState) -> Result<Self, AppError> {
+        check_content_type(req.headers().get(header::CONTENT_TYPE))?;
         let body = Bytes::from_request(req, state)
             .await
             .map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
@@ -43,4 +47,17 @@ pub fn read_object<T: DeserializeOwned>(body: &[u8]) -> Result<T, AppError> {
     // Nothing but whitespace may follow the object (`{…} {` is not one JSON document).
     de.end().map_err(|e| AppError::malformed(&e))?;
     Ok(req)
+}
+
+/// Refuses a body whose `Content-Type` is missing or not JSON (415).
+fn check_content_type(value: Option<&HeaderValue>) -> Result<(), AppError> {
+    let given = value.map(|v| String::from_utf8_lossy(v.as_bytes()).into_owned());
+    let essence = given.as_deref().map(|v| {
+        v.split(';').next().unwrap_or_default().trim().to_ascii_lowercase()
+    });
+    match essence.as_deref() {
+        Some("application/json") => Ok(()),
+        Some(e) if e.starts_with("application/") && e.ends_with("+json") => Ok(()),
+        _ => Err(AppError::unsupported_media_type(given.as_deref())),
+    }
 }

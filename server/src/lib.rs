@@ -67,11 +67,13 @@ use axum::routing::{get, post};
 use tower_http::LatencyUnit;
 use tower_http::catch_panic::CatchPanicLayer;
 use tower_http::cors::{AllowOrigin, CorsLayer};
+use tower_http::set_header::SetResponseHeaderLayer;
 use tower_http::trace::{DefaultOnResponse, TraceLayer};
 use tracing::Level;
 
 /// The whole app: API, page, request logging (one line per request), a 500 JSON error for
-/// a handler that panics, and CORS headers only for the configured origins.
+/// a handler that panics, `X-Content-Type-Options: nosniff` on every response, and CORS
+/// headers only for the configured origins.
 pub fn app(state: AppState) -> Router {
     let cors = cors(&state.config.cors_origins);
     let trace = TraceLayer::new_for_http()
@@ -98,7 +100,11 @@ pub fn app(state: AppState) -> Router {
         .layer(DefaultBodyLimit::max(state.config.max_body_bytes))
         .layer(CatchPanicLayer::custom(|_| {
             AppError::internal("internal error: the request handler panicked").into_response()
-        }));
+        }))
+        .layer(SetResponseHeaderLayer::overriding(
+            header::X_CONTENT_TYPE_OPTIONS,
+            HeaderValue::from_static("nosniff"),
+        ));
     let router = match cors {
         Some(cors) => router.layer(cors),
         None => router,

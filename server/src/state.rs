@@ -1,12 +1,18 @@
 //! [`AppState`]: what every handler shares: the limits, the simulation slots (admission),
-//! the count of running simulations, the shutdown flag and the [`Caches`] of latitude axes
-//! and references.
+//! the permits for checking requests, the budget of answers in flight, the count of running
+//! simulations, the shutdown flag and the [`Caches`] of latitude axes and references.
 
-use crate::compute::{ActiveRuns, Caches, RunGuard, Runner, Slot};
+use crate::compute::{
+    ActiveRuns, AnswerBudget, BudgetGuard, Caches, RunGuard, Runner, Slot, off_runtime,
+};
 use crate::config::Config;
 use crate::error::AppError;
 use std::sync::Arc;
+use std::time::Duration;
 use tokio::sync::{Semaphore, watch};
+
+/// How long a request may wait for a permit to be checked before it gets 503.
+pub const CHECK_WAIT: Duration = Duration::from_secs(1);
 
 /// Shared state of the app; cheap to clone.
 #[derive(Debug, Clone)]
@@ -17,6 +23,8 @@ pub struct AppState {
     pub caches: Arc<Caches>,
     active: ActiveRuns,
     slots: Arc<Semaphore>,
+    checks: Arc<Semaphore>,
+    budget: AnswerBudget,
     shutdown: Arc<watch::Sender<bool>>,
 }
 
@@ -30,11 +38,16 @@ impl AppState {
     /// State with these limits.
     pub fn new(config: Config) -> Self {
         let slots = Arc::new(Semaphore::new(config.max_simulations));
+        // As many checks at once as simulations: a check may solve a latitude axis.
+        let checks = Arc::new(Semaphore::new(config.max_simulations));
+        let budget = AnswerBudget::new(config.max_inflight_bytes);
         Self {
             config: Arc::new(config),
             caches: Arc::default(),
             active: ActiveRuns::default(),
             slots,
+            checks,
+            budget,
             shutdown: Arc::new(watch::Sender::new(false)),
         }
     }
@@ -49,12 +62,40 @@ impl AppState {
         self.config.max_simulations - self.slots.available_permits()
     }
 
-    /// Admission: a slot for one simulation, or a 503 (with `Retry-After`) when all
-    /// `max_simulations` are taken or the server is shutting down. Never waits: a busy
-    /// server says so at once rather than queueing without bound. Every handler that
-    /// computes calls this after checking its input (a bad request gets its 4xx even when
-    /// the server is busy).
-    pub fn admit(&self) -> Result<Slot, AppError> {
+    /// Bytes the answers in flight hold now (their estimates), and the limit.
+    pub fn answers_in_flight(&self) -> (u64, u64) {
+        (self.budget.used(), self.budget.limit())
+    }
+
+    /// Checks a request with `check` (which may compute: a latitude axis) on the blocking
+    /// pool, at most `max_simulations` at once: a flood of requests cannot take more threads
+    /// or cores for checking than simulations have. Waits up to [`CHECK_WAIT`] for a turn,
+    /// then 503.
+    pub async fn check<T: Send + 'static>(
+        &self,
+        check: impl FnOnce() -> Result<T, AppError> + Send + 'static,
+    ) -> Result<T, AppError> {
+        let permit = tokio::time::timeout(CHECK_WAIT, self.checks.clone().acquire_owned())
+            .await
+            .ok()
+            .and_then(Result::ok)
+            .ok_or_else(|| {
+                AppError::unavailable(
+                    "the server is busy checking other requests; retry in a moment",
+                )
+            })?;
+        let result = off_runtime(check).await;
+        drop(permit);
+        result
+    }
+
+    /// Admission: a slot for one simulation and `answer_bytes` of the budget of answers in
+    /// flight, or a 503 (with `Retry-After`) when all `max_simulations` are taken, the
+    /// budget is spent or the server is shutting down. Never waits: a busy server says so at
+    /// once rather than queueing without bound. Every handler that computes calls this after
+    /// checking its input (a bad request gets its 4xx even when the server is busy). The
+    /// guard goes with the answer until it is written.
+    pub fn admit(&self, answer_bytes: u64) -> Result<(Slot, BudgetGuard), AppError> {
         if self.is_shutting_down() {
             return Err(AppError::unavailable("the server is shutting down; retry shortly"));
         }
@@ -65,7 +106,8 @@ impl AppState {
                 self.config.max_simulations
             ))
         })?;
-        Ok(Slot::new(permit))
+        let budget = self.budget.reserve(answer_bytes)?;
+        Ok((Slot::new(permit), budget))
     }
 
     /// Asks every open stream to end (with a `shutdown` event) and admission to refuse.

@@ -166,7 +166,7 @@ async fn bad_fields_are_named() {
 async fn a_busy_server_says_503_and_a_leaving_client_stops_the_runs() {
     let server = TestServer::with_config(Config { max_simulations: 1, ..Config::default() }).await;
     let body = json!({"system": "knife_edge", "preset": "paper", "t_end": 10, "steps": [0.1]});
-    let slot = server.state.admit().expect("a free slot");
+    let (slot, _budget) = server.state.admit(0).expect("a free slot");
     let response =
         reqwest::Client::new().post(server.at("/work-precision")).json(&body).send().await.unwrap();
     assert_eq!(response.status(), 503);

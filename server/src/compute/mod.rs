@@ -1,10 +1,12 @@
 //! Where simulations compute, off the async runtime: a request checked into a [`Plan`], its
 //! admission [`Slot`], the [`Runner`] that runs each method on the blocking pool (timed by a
-//! [`ThreadClock`], counted in [`ActiveRuns`], stopped through [`Cancel`]), and the [`Caches`]
-//! of latitude axes and references kept across requests. Nothing here knows the app's state
+//! [`ThreadClock`], counted in [`ActiveRuns`], stopped through [`Cancel`]), the memory its
+//! answer may hold ([`AnswerBudget`]), and the [`Caches`] of latitude axes and references
+//! kept across requests. Nothing here knows the app's state
 //! or its handlers: they hand in what is needed.
 
 mod active_runs;
+mod budget;
 mod cache;
 mod cancel;
 mod plan;
@@ -13,9 +15,12 @@ mod slot;
 mod thread_clock;
 
 pub use active_runs::{ActiveRuns, RunGuard};
+pub use budget::{
+    AnswerBudget, BudgetGuard, JSON_BYTES_PER_POINT, KEPT_BYTES_PER_POINT, answer_bytes, mib,
+};
 pub use cache::{CAPACITY, Cache, Caches, ReferenceKey, SceneKey};
 pub use cancel::{Cancel, CancelOnDrop};
-pub use plan::{Delivery, Plan};
+pub use plan::{Delivery, Plan, check_answer_bytes};
 pub use runner::{Finished, PROGRESS_EVERY, Runner, lower_priority, off_runtime};
 pub use slot::Slot;
 pub use thread_clock::{ThreadClock, millis};

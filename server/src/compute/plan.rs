@@ -1,7 +1,9 @@
 //! [`Plan`]: a `/simulate` request resolved and checked against the core and the limits,
 //! ready to run. Every error names the field at fault.
 
-use crate::compute::Caches;
+use crate::compute::{
+    Caches, JSON_BYTES_PER_POINT, KEPT_BYTES_PER_POINT, answer_bytes, mib,
+};
 use crate::config::Config;
 use crate::error::AppError;
 use crate::request::{MethodRequest, SimulateRequest};
@@ -69,8 +71,45 @@ impl Plan {
             }
         };
         let scene = SceneView::of(&prepared, &methods, points);
-        Ok(Self { prepared: Arc::new(prepared), methods, points, scene })
+        let plan = Self { prepared: Arc::new(prepared), methods, points, scene };
+        let bytes_per_point = match delivery {
+            Delivery::Json => Some(JSON_BYTES_PER_POINT),
+            Delivery::Stream => Some(KEPT_BYTES_PER_POINT),
+            // The endpoint checks the sum over its plans.
+            Delivery::JsonOnly => None,
+        };
+        if let Some(per_point) = bytes_per_point {
+            check_answer_bytes(plan.held_bytes(per_point), config, "")?;
+        }
+        Ok(plan)
     }
+
+    /// What the runs of this plan hold at the peak of their answer, at `bytes_per_point`:
+    /// one series per method and integral, each of `points` buckets (fewer if the run has
+    /// fewer steps).
+    pub fn held_bytes(&self, bytes_per_point: u64) -> u64 {
+        let series = (self.methods.len() * self.prepared.integrals.len()) as u64;
+        let points = (self.points as u64).min(self.scene.steps.saturating_add(1));
+        answer_bytes(series, points, bytes_per_point)
+    }
+}
+
+/// Refuses a request whose answer would hold more than `max_answer_bytes` (422 at `points`,
+/// the field that scales it most simply); `what` says whose answer it is, if not one scene's.
+pub fn check_answer_bytes(bytes: u64, config: &Config, what: &str) -> Result<(), AppError> {
+    if bytes <= config.max_answer_bytes {
+        return Ok(());
+    }
+    Err(AppError::invalid(
+        "points",
+        format!(
+            "the answer{what} would hold about {} (series × points × bytes per point), over \
+             the limit of {} per request (max_answer_bytes); ask for fewer points, methods, \
+             integrals or scenes",
+            mib(bytes),
+            mib(config.max_answer_bytes)
+        ),
+    ))
 }
 
 fn check_steps(scene: &Scene, config: &Config, delivery: Delivery) -> Result<(), AppError> {

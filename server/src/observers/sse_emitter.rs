@@ -61,6 +61,13 @@ impl SseEmitter {
             .collect()
     }
 
+    /// The run's last `progress` event, once it has ended after `steps_done` steps at time
+    /// `t`: every run sends at least one, however short.
+    pub fn final_progress(&self, steps_done: u64, t: f64) -> Event {
+        let fraction = (steps_done as f64 / self.steps.max(1) as f64).min(1.0);
+        sse_event("progress", &ProgressEvent { run: self.run, t, fraction, steps: steps_done })
+    }
+
     /// The verdict of every series (by integral id), once the run has ended.
     pub fn verdicts(&self) -> BTreeMap<String, VerdictView> {
         self.verdicts.all()

@@ -1,6 +1,7 @@
 //! [`MethodRequest`]: one method of a request, as an id string or an object with its
 //! parameters beside the id or in a `params` object; a parameter given twice is refused.
 
+use crate::request::params::{Params, push_param};
 use serde::Deserialize;
 use serde::de::{self, MapAccess, Visitor};
 use std::fmt;
@@ -71,42 +72,4 @@ impl<'de> Visitor<'de> for MethodVisitor {
             ))),
         }
     }
-}
-
-/// A method's `params` object, name by name in the order given.
-struct Params(Vec<(String, f64)>);
-
-impl<'de> Deserialize<'de> for Params {
-    fn deserialize<D: de::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct ParamsVisitor;
-        impl<'de> Visitor<'de> for ParamsVisitor {
-            type Value = Params;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("an object of parameter values, e.g. {\"alpha\": 0.4}")
-            }
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Params, A::Error> {
-                let mut params = Vec::new();
-                while let Some(key) = map.next_key::<String>()? {
-                    let value = map.next_value::<f64>()?;
-                    push_param(&mut params, key, value)?;
-                }
-                Ok(Params(params))
-            }
-        }
-        d.deserialize_map(ParamsVisitor)
-    }
-}
-
-/// Adds a parameter, refusing a second value for the same name (else the last would win
-/// unseen).
-fn push_param<E: de::Error>(
-    params: &mut Vec<(String, f64)>,
-    name: String,
-    value: f64,
-) -> Result<(), E> {
-    if params.iter().any(|(n, _)| *n == name) {
-        return Err(E::custom(format!("parameter `{name}` is given twice")));
-    }
-    params.push((name, value));
-    Ok(())
 }

@@ -7,6 +7,7 @@
 
 mod method_request;
 mod objects;
+mod params;
 mod scene_spec;
 pub(crate) mod schemas;
 mod scorecard_request;
@@ -15,6 +16,7 @@ mod work_precision_request;
 
 pub use method_request::MethodRequest;
 pub(crate) use objects::objects;
+pub use params::Params;
 pub use scene_spec::SceneSpec;
 pub use scorecard_request::ScorecardRequest;
 pub use simulate_request::SimulateRequest;

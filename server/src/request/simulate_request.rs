@@ -32,7 +32,7 @@ macro_rules! scene_body {
             /// Parameter overrides by name, e.g. `{"epsilon": 0.5}`.
             #[serde(default)]
             #[schema(schema_with = $crate::request::schemas::params)]
-            pub params: Option<std::collections::BTreeMap<String, f64>>,
+            pub params: Option<$crate::request::Params>,
             /// Initial configuration (one number per degree of freedom, each at most 1e90 in
             /// magnitude).
             #[serde(default)]
@@ -64,7 +64,7 @@ macro_rules! scene_body {
                 nhlab_core::SceneRequest {
                     system: self.system.clone(),
                     preset: self.preset.clone(),
-                    params: self.params.iter().flatten().map(|(n, v)| (n.clone(), *v)).collect(),
+                    params: self.params.iter().flat_map(|p| p.0.iter()).cloned().collect(),
                     q: self.q.clone(),
                     v: self.v.clone(),
                     step: self.step,

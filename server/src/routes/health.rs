@@ -1,6 +1,6 @@
 //! [`health`]: the `GET /health` handler, which answers from the async runtime alone (no
-//! simulation ever runs there) with the simulation slots taken, the runs computing and the
-//! caches' counters.
+//! simulation ever runs there) with the simulation slots taken, the runs computing, the bytes
+//! the answers in flight hold and the caches' counters.
 
 use crate::state::AppState;
 use crate::views::Health;
@@ -11,11 +11,14 @@ use axum::extract::State;
 #[utoipa::path(get, path = "/health", tag = "nhlab", responses((status = 200, body = Health)))]
 pub async fn health(State(state): State<AppState>) -> Json<Health> {
     let status = if state.is_shutting_down() { "shutting_down" } else { "ok" };
+    let (answer_bytes, max_inflight_bytes) = state.answers_in_flight();
     Json(Health {
         status: status.into(),
         simulations: state.busy_slots(),
         max_simulations: state.config.max_simulations,
         active_runs: state.active_runs(),
+        answer_bytes,
+        max_inflight_bytes,
         cache: state.caches.stats(),
     })
 }

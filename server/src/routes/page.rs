@@ -1,6 +1,8 @@
 //! [`Page`]: the web page (`web/dist/`, built by `build.rs`), embedded in the binary so it
 //! runs from any directory, served at `/` and its asset paths. Only embedded files are
-//! served: a path is a key into the embedded set, never a file-system path.
+//! served: a path is a key into the embedded set, never a file-system path. The page's
+//! files carry a Content-Security-Policy: scripts, styles and connections only from this
+//! origin, no framing by other sites.
 
 use crate::error::AppError;
 use axum::http::{HeaderValue, Method, StatusCode, Uri, header};
@@ -11,6 +13,12 @@ use rust_embed::Embed;
 #[derive(Embed)]
 #[folder = "../web/dist/"]
 pub struct Page;
+
+/// The page's policy: its own scripts and styles (uPlot sets inline styles on its elements),
+/// its own API, images from itself or `data:`/`blob:` URLs (the icon, exported plots).
+pub const CSP: &str = "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; \
+    img-src 'self' data: blob:; connect-src 'self'; object-src 'none'; base-uri 'none'; \
+    form-action 'self'; frame-ancestors 'none'";
 
 /// Serves an embedded file (`/` is `index.html`), or a 404 JSON error.
 pub async fn page(method: Method, uri: Uri) -> Response {
@@ -28,6 +36,8 @@ pub async fn page(method: Method, uri: Uri) -> Response {
     let headers = [
         (header::CONTENT_TYPE, mime),
         (header::CACHE_CONTROL, HeaderValue::from_static("no-cache")),
+        (header::CONTENT_SECURITY_POLICY, HeaderValue::from_static(CSP)),
+        (header::REFERRER_POLICY, HeaderValue::from_static("no-referrer")),
     ];
     (StatusCode::OK, headers, file.data).into_response()
 }

@@ -8,7 +8,9 @@
 //! `scenes[i]`); the methods and `points` once for all scenes. Each run is kept by a
 //! [`JsonCollector`], of which only the verdicts are reported.
 
-use crate::compute::{Cancel, Delivery, Plan, Slot, lower_priority, off_runtime};
+use crate::compute::{
+    Cancel, Delivery, KEPT_BYTES_PER_POINT, Plan, Slot, check_answer_bytes, lower_priority,
+};
 use crate::error::{AppError, ErrorBody};
 use crate::json_object::JsonObject;
 use crate::observers::JsonCollector;
@@ -38,6 +40,7 @@ pub const MAX_SCENES: usize = 16;
             bounded otherwise.", body = ScorecardResponse),
         (status = 400, description = "The body is not valid JSON of the right shape", body = ErrorBody),
         (status = 413, description = "The body is too large", body = ErrorBody),
+        (status = 415, description = "The body was not sent with `Content-Type: application/json`", body = ErrorBody),
         (status = 422, description = "A field is wrong (the error names it, e.g. `scenes[1].preset`)", body = ErrorBody),
         (status = 500, description = "Internal error", body = ErrorBody),
         (status = 503, description = "Every simulation slot is taken, or the server is \
@@ -51,14 +54,16 @@ pub async fn scorecard(
 ) -> Result<Json<ScorecardResponse>, AppError> {
     let plans = {
         let state = state.clone();
-        off_runtime(move || plans(&req, &state)).await?
+        state.clone().check(move || plans(&req, &state)).await?
     };
     tracing::Span::current().record(
         "scene",
         format!("scorecard scenes={} methods={}", plans.len(), plans[0].methods.len()).as_str(),
     );
-    // One simulation slot for the whole scorecard, like one /simulate request.
-    let slot = state.admit()?;
+    // One simulation slot for the whole scorecard, like one /simulate request; its runs keep
+    // their series for the verdicts until they end.
+    let held = plans.iter().map(|p| p.held_bytes(KEPT_BYTES_PER_POINT)).sum();
+    let (slot, _budget) = state.admit(held)?;
     Ok(Json(run(&state, plans, slot).await?))
 }
 
@@ -98,7 +103,7 @@ fn plans(req: &ScorecardRequest, state: &AppState) -> Result<Vec<Plan>, AppError
         Some(s) => s.clone(),
     };
     let methods = req.methods.clone().unwrap_or_else(all_methods);
-    scenes
+    let plans = scenes
         .into_iter()
         .enumerate()
         .map(|(i, scene)| {
@@ -116,7 +121,10 @@ fn plans(req: &ScorecardRequest, state: &AppState) -> Result<Vec<Plan>, AppError
                 },
             )
         })
-        .collect()
+        .collect::<Result<Vec<_>, _>>()?;
+    let held = plans.iter().map(|p| p.held_bytes(KEPT_BYTES_PER_POINT)).sum();
+    check_answer_bytes(held, &state.config, " (its runs' series, kept for the verdicts)")?;
+    Ok(plans)
 }
 
 async fn run(

@@ -4,7 +4,10 @@
 //! methods run in parallel on the blocking pool, once the request is admitted
 //! ([`AppState::admit`]: a bounded number of simulations at once).
 
-use crate::compute::{Cancel, Delivery, Finished, Plan, Slot, off_runtime};
+use crate::compute::{
+    BudgetGuard, Cancel, Delivery, Finished, JSON_BYTES_PER_POINT, KEPT_BYTES_PER_POINT, Plan,
+    Slot, off_runtime,
+};
 use crate::error::{AppError, ErrorBody};
 use crate::json_object::JsonObject;
 use crate::observers::JsonCollector;
@@ -12,7 +15,10 @@ use crate::request::SimulateRequest;
 use crate::routes::simulate_stream::stream;
 use crate::state::AppState;
 use crate::views::{RunView, SimulateResponse};
+use axum::body::{Body, Bytes};
 use axum::extract::State;
+use futures_util::StreamExt;
+use std::convert::Infallible;
 use axum::http::{HeaderMap, header};
 use axum::response::{IntoResponse, Response};
 
@@ -34,6 +40,7 @@ use axum::response::{IntoResponse, Response};
             )),
         (status = 400, description = "The body is not valid JSON of the right shape", body = ErrorBody),
         (status = 413, description = "The body is too large", body = ErrorBody),
+        (status = 415, description = "The body was not sent with `Content-Type: application/json`", body = ErrorBody),
         (status = 422, description = "A field is wrong (the error names it)", body = ErrorBody),
         (status = 500, description = "Internal error", body = ErrorBody),
         (status = 503, description = "Every simulation slot is taken, or the server is \
@@ -49,7 +56,7 @@ pub async fn simulate(
     let delivery = if wants_stream(&headers) { Delivery::Stream } else { Delivery::Json };
     let plan = {
         let (config, caches) = (state.config.clone(), state.caches.clone());
-        off_runtime(move || Plan::resolve(&req, &config, &caches, delivery)).await?
+        state.check(move || Plan::resolve(&req, &config, &caches, delivery)).await?
     };
     let scene = &plan.scene;
     let summary = format!(
@@ -61,9 +68,11 @@ pub async fn simulate(
         delivery
     );
     tracing::Span::current().record("scene", summary.as_str());
-    let slot = state.admit()?;
+    let per_point =
+        if delivery == Delivery::Stream { KEPT_BYTES_PER_POINT } else { JSON_BYTES_PER_POINT };
+    let (slot, budget) = state.admit(plan.held_bytes(per_point))?;
     match delivery {
-        Delivery::Stream => Ok(stream(&state, plan, slot)),
+        Delivery::Stream => Ok(stream(&state, plan, slot, budget)),
         Delivery::Json | Delivery::JsonOnly => {
             let finished = run(&state, &plan, slot).await?;
             // Building the columns, the verdicts and ~1 MB of JSON is CPU work: off the runtime.
@@ -83,17 +92,55 @@ pub async fn simulate(
                 Ok(body)
             })
             .await?;
-            Ok(([(header::CONTENT_TYPE, "application/json")], body).into_response())
+            Ok(([(header::CONTENT_TYPE, "application/json")], chunked(body, budget)).into_response())
         }
     }
 }
 
+/// Whether the client asked for server-sent events: `text/event-stream` in `Accept` with a
+/// quality above 0 and not below that of `application/json` (a tie streams).
 fn wants_stream(headers: &HeaderMap) -> bool {
-    headers
-        .get_all(header::ACCEPT)
-        .iter()
-        .filter_map(|v| v.to_str().ok())
-        .any(|v| v.contains("text/event-stream"))
+    let quality = |wanted: &str| {
+        headers
+            .get_all(header::ACCEPT)
+            .iter()
+            .filter_map(|v| v.to_str().ok())
+            .flat_map(|v| v.split(','))
+            .filter_map(|range| {
+                let mut parts = range.split(';').map(str::trim);
+                let media = parts.next()?;
+                media.eq_ignore_ascii_case(wanted).then(|| {
+                    parts
+                        .filter_map(|p| p.split_once('='))
+                        .find(|(k, _)| k.trim().eq_ignore_ascii_case("q"))
+                        .map_or(1.0, |(_, q)| q.trim().parse::<f32>().unwrap_or(0.0))
+                })
+            })
+            .fold(None, |best: Option<f32>, q| Some(best.map_or(q, |b| b.max(q))))
+    };
+    match quality("text/event-stream") {
+        Some(sse) if sse > 0.0 => sse >= quality("application/json").unwrap_or(0.0),
+        _ => false,
+    }
+}
+
+/// Bytes per chunk of a JSON answer.
+const CHUNK: usize = 64 * 1024;
+
+/// The answer as a body of [`CHUNK`]-sized pieces holding `budget` until the last is handed
+/// to the connection (or the connection is dropped): hyper asks for the next piece only once
+/// it has written the previous ones, so the answer counts in the budget of answers in flight
+/// for as long as a slow client takes to read it.
+fn chunked(body: Vec<u8>, budget: BudgetGuard) -> Body {
+    let body = Bytes::from(body);
+    let pieces = (0..body.len()).step_by(CHUNK).map(move |start| {
+        let piece = body.slice(start..(start + CHUNK).min(body.len()));
+        Ok::<_, Infallible>(piece)
+    });
+    Body::from_stream(futures_util::stream::iter(pieces).map(move |piece| {
+        let _held = &budget;
+        piece
+    }))
 }
 
 /// Runs every method of `plan` in parallel and waits for them.

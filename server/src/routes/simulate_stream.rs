@@ -11,7 +11,7 @@
 //! sent. On shutdown ([`AppState::shut_down`]) the runs are stopped, their `run` events sent,
 //! and a `shutdown` event ends the stream instead of `done`.
 
-use crate::compute::{Cancel, Finished, Plan, Runner, Slot, millis};
+use crate::compute::{BudgetGuard, Cancel, Finished, Plan, Runner, Slot, millis};
 use crate::observers::{SseEmitter, sse_event};
 use crate::state::AppState;
 use crate::views::{DoneEvent, MethodView, RunEvent, RunSummary, ShutdownEvent, Status};
@@ -27,8 +27,9 @@ use tokio_stream::wrappers::ReceiverStream;
 /// Events buffered between the runs and the client.
 const CHANNEL: usize = 64;
 
-/// Starts the runs of `plan`, admitted with `slot`, and answers with their event stream.
-pub fn stream(state: &AppState, plan: Plan, slot: Slot) -> Response {
+/// Starts the runs of `plan`, admitted with `slot` and `budget`, and answers with their event
+/// stream.
+pub fn stream(state: &AppState, plan: Plan, slot: Slot, budget: BudgetGuard) -> Response {
     let (tx, rx) = mpsc::channel::<Event>(CHANNEL);
     let cancel = Cancel::default();
     let on_drop = cancel.on_drop();
@@ -38,8 +39,9 @@ pub fn stream(state: &AppState, plan: Plan, slot: Slot) -> Response {
     let runner = state.runner().with_slot(slot);
     tokio::spawn(coordinate(runner, state.clone(), plan, every, tx, cancel));
     let body = ReceiverStream::new(rx).map(move |ev| {
-        // The body owns the guard: dropping it (the client left) cancels the runs.
-        let _alive = &on_drop;
+        // The body owns the guards: dropping it (the client left) cancels the runs and gives
+        // back its share of the budget of answers in flight.
+        let _alive = (&on_drop, &budget);
         Ok::<_, Infallible>(ev)
     });
     Sse::new(body).keep_alive(KeepAlive::default()).into_response()
@@ -59,7 +61,9 @@ async fn coordinate(
         .map(|i| {
             let emitter = SseEmitter::new(i, steps, every, tx.clone(), cancel.clone());
             let method = plan.scene.methods[i].clone();
-            let handle = runner.spawn_then(&plan, i, emitter, |run| last_events(run, method));
+            let step = plan.prepared.scene.step;
+            let handle =
+                runner.spawn_then(&plan, i, emitter, move |run| last_events(run, method, step));
             async move { (i, handle.await) }
         })
         .collect();
@@ -104,10 +108,19 @@ async fn coordinate(
     drop(runner);
 }
 
-/// A run's last `points` events and its `run` event, made on the run's own thread as it ends
-/// (serializing them is CPU work, and the other runs may still be computing).
-fn last_events(mut finished: Finished<SseEmitter>, method: MethodView) -> (Vec<Event>, Status) {
+/// A run's last `points` events, its last `progress` and its `run` event, made on the run's
+/// own thread as it ends (serializing them is CPU work, and the other runs may still be
+/// computing).
+fn last_events(
+    mut finished: Finished<SseEmitter>,
+    method: MethodView,
+    step: f64,
+) -> (Vec<Event>, Status) {
     let mut events = finished.observer.take_points();
+    if let Ok(outcome) = &finished.outcome {
+        let t = outcome.steps as f64 * step;
+        events.push(finished.observer.final_progress(outcome.steps, t));
+    }
     let verdicts = finished.observer.verdicts();
     let summary = finished.summary(method.clone()).unwrap_or_else(|panic| {
         let error = format!("internal error: the simulation panicked: {panic}");

@@ -11,7 +11,7 @@
 //! after 10⁵ steps, so its cost is bounded whatever t_end is.
 
 use crate::compute::{
-    Caches, Cancel, Delivery, Plan, ReferenceKey, Slot, lower_priority, off_runtime,
+    Caches, Cancel, Delivery, KEPT_BYTES_PER_POINT, Plan, ReferenceKey, Slot, lower_priority,
 };
 use crate::error::{AppError, ErrorBody};
 use crate::json_object::JsonObject;
@@ -47,6 +47,7 @@ pub const DEFAULT_REPEATS: i64 = 3;
             body = WorkPrecisionResponse),
         (status = 400, description = "The body is not valid JSON of the right shape", body = ErrorBody),
         (status = 413, description = "The body is too large", body = ErrorBody),
+        (status = 415, description = "The body was not sent with `Content-Type: application/json`", body = ErrorBody),
         (status = 422, description = "A field is wrong (the error names it, e.g. `steps[2]`)", body = ErrorBody),
         (status = 500, description = "Internal error", body = ErrorBody),
         (status = 503, description = "Every simulation slot is taken, or the server is \
@@ -60,7 +61,7 @@ pub async fn work_precision(
 ) -> Result<Json<WorkPrecisionResponse>, AppError> {
     let job = {
         let state = state.clone();
-        off_runtime(move || Job::resolve(&req, &state)).await?
+        state.clone().check(move || Job::resolve(&req, &state)).await?
     };
     tracing::Span::current().record(
         "scene",
@@ -74,7 +75,8 @@ pub async fn work_precision(
         )
         .as_str(),
     );
-    let slot = state.admit()?;
+    // One bucket per series, kept for one run at a time.
+    let (slot, _budget) = state.admit(job.plan.held_bytes(KEPT_BYTES_PER_POINT))?;
     Ok(Json(run(&state, job, slot).await?))
 }
 

@@ -15,6 +15,11 @@ pub struct Health {
     pub max_simulations: usize,
     /// Simulation runs computing right now (one per method of a simulation).
     pub active_runs: usize,
+    /// Bytes the answers in flight hold (their estimates, reserved from admission until the
+    /// answer is written or dropped).
+    pub answer_bytes: u64,
+    /// Most bytes the answers in flight may hold together; beyond, 503.
+    pub max_inflight_bytes: u64,
     /// Hits, misses and entries of the latitude-axis and reference caches.
     pub cache: CachesStats,
 }
