@@ -19,8 +19,16 @@ impl<T: DeserializeOwned + Send> FromRequest<AppState> for JsonObject<T> {
     type Rejection = AppError;
 
     async fn from_request(req: Request, state: &AppState) -> Result<Self, AppError> {
-        let body = Bytes::from_request(req, state)
+        // A body that trickles in is refused with 408 once `body_timeout` has passed.
+        let limit = state.config.body_timeout;
+        let body = tokio::time::timeout(limit, Bytes::from_request(req, state))
             .await
+            .map_err(|_| {
+                AppError::timeout(format!(
+                    "the request body did not arrive within {} s (limit body_timeout)",
+                    limit.as_secs_f64()
+                ))
+            })?
             .map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
         read_object(&body).map(Self)
     }

@@ -2,12 +2,17 @@
 //! 127.0.0.1:8080) until Ctrl-C or SIGTERM, with the limits of [`Config`] as flags and
 //! environment variables (`nhlab --help`).
 //!
-//! Shutdown: on the signal it stops accepting connections, ends every open stream with a
-//! `shutdown` event (stopping its runs), lets JSON requests in flight finish, and exits
-//! after at most `--shutdown-grace` seconds.
+//! Connections are served by [`serve`](nhlab_server::serve), with its timeouts and cap as
+//! flags too.
+//!
+//! Shutdown: on the signal it stops accepting connections, closes idle ones and those that
+//! have not sent a whole request head, ends every open stream with a `shutdown` event
+//! (stopping its runs), lets JSON requests in flight finish, and exits 0 once every
+//! connection is closed. If requests are still open after `--shutdown-grace` seconds it
+//! exits anyway, with code 1.
 
 use clap::Parser;
-use nhlab_server::{AppState, Config, app};
+use nhlab_server::{AppState, Config, app, serve};
 use std::io::IsTerminal;
 use std::time::Duration;
 use tokio::sync::watch;
@@ -17,7 +22,7 @@ use tracing_subscriber::EnvFilter;
 ///
 /// Every option can also be set by the environment variable shown.
 #[derive(Debug, Parser)]
-#[command(version, about)]
+#[command(name = "nhlab", version, about)]
 struct Args {
     /// Address to listen on, HOST:PORT (the container sets 0.0.0.0:8080).
     #[arg(long, env = "NHLAB_ADDR", default_value = "127.0.0.1:8080")]
@@ -54,6 +59,23 @@ struct Args {
     #[arg(long, env = "NHLAB_SHUTDOWN_GRACE", default_value_t = 10.0,
           value_parser = grace)]
     shutdown_grace: f64,
+    /// Seconds a client has to send a whole request head (also how long an idle keep-alive
+    /// connection stays open); then the connection is closed.
+    #[arg(long, env = "NHLAB_HEADER_TIMEOUT", default_value_t = 10.0, value_parser = timeout)]
+    header_timeout: f64,
+    /// Seconds a request body has to arrive once its handler reads it (later: 408).
+    #[arg(long, env = "NHLAB_BODY_TIMEOUT", default_value_t = 10.0, value_parser = timeout)]
+    body_timeout: f64,
+    /// Seconds a response (or a stream) may go without any write progress, the client not
+    /// reading, before its connection is closed (which stops the stream's runs).
+    #[arg(long, env = "NHLAB_WRITE_TIMEOUT", default_value_t = 30.0, value_parser = timeout)]
+    write_timeout: f64,
+    /// Most connections open at once; more wait in the listen backlog until one closes.
+    /// Default: 1024, or the open-file limit (ulimit -n) minus 64 if lower.
+    #[arg(long, env = "NHLAB_MAX_CONNECTIONS",
+          default_value_t = nhlab_server::serve::default_max_connections(),
+          value_parser = connections)]
+    max_connections: usize,
 }
 
 fn defaults() -> Config {
@@ -81,6 +103,20 @@ fn grace(s: &str) -> Result<f64, String> {
     }
 }
 
+fn timeout(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x > 0.0 && x <= 3600.0 => Ok(x),
+        _ => Err("seconds, more than 0 and at most 3600".into()),
+    }
+}
+
+fn connections(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if (1..=1_000_000).contains(&n) => Ok(n),
+        _ => Err("a number of connections between 1 and 1000000".into()),
+    }
+}
+
 impl Args {
     fn config(&self) -> Config {
         Config {
@@ -91,7 +127,16 @@ impl Args {
             max_methods: self.max_methods,
             max_body_bytes: self.max_body_bytes,
             cors_origins: self.cors_origin.clone(),
+            body_timeout: Duration::from_secs_f64(self.body_timeout),
             ..Config::default()
+        }
+    }
+
+    fn serving(&self) -> serve::Options {
+        serve::Options {
+            header_timeout: Duration::from_secs_f64(self.header_timeout),
+            write_timeout: Duration::from_secs_f64(self.write_timeout),
+            max_connections: self.max_connections,
         }
     }
 }
@@ -123,7 +168,7 @@ async fn main() -> std::process::ExitCode {
     let grace = Duration::from_secs_f64(args.shutdown_grace);
     let state = AppState::new(args.config());
     let (stop_tx, mut stop_rx) = watch::channel(false);
-    let server = axum::serve(listener, app(state.clone())).with_graceful_shutdown(async move {
+    let server = serve::serve(listener, app(state.clone()), args.serving(), async move {
         signals.await;
         tracing::info!("shutting down: no new connections, ending streams, finishing requests");
         state.shut_down();
@@ -134,17 +179,12 @@ async fn main() -> std::process::ExitCode {
         tokio::time::sleep(grace).await;
     };
     tokio::select! {
-        result = server => {
-            if let Err(e) = result {
-                tracing::error!("server error: {e}");
-                return std::process::ExitCode::FAILURE;
-            }
-        }
+        () = server => tracing::info!("every connection closed; exiting"),
         () = deadline => {
-            tracing::warn!("requests still open after {grace:?}; exiting");
+            tracing::error!("requests still open after the grace period ({grace:?}); exiting (1)");
             // Returning would drop the runtime, which waits for blocking tasks (runs still
             // computing) without bound; the grace period is over.
-            std::process::exit(0);
+            std::process::exit(1);
         }
     }
     std::process::ExitCode::SUCCESS
