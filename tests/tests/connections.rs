@@ -54,7 +54,7 @@ async fn until_closed(stream: &mut TcpStream, limit: Duration) -> (String, Durat
     let read = tokio::time::timeout(limit, async {
         let mut buffer = [0; 4096];
         loop {
-            match read(&stream, &mut buffer).await {
+            match read(stream, &mut buffer).await {
                 Ok(0) | Err(_) => break,
                 Ok(n) => received.extend_from_slice(&buffer[..n]),
             }
