@@ -38,6 +38,9 @@ pub struct Config {
     /// can reach it in production.
     #[cfg(debug_assertions)]
     pub panic_on_points: Option<usize>,
+    /// Time a request body has to arrive once its handler starts reading it; a body still
+    /// incomplete then gets 408 (a trickling client holds no connection for long).
+    pub body_timeout: Duration,
 }
 
 impl Default for Config {
@@ -55,6 +58,7 @@ impl Default for Config {
             report_every: Duration::from_millis(200),
             #[cfg(debug_assertions)]
             panic_on_points: None,
+            body_timeout: Duration::from_secs(10),
         }
     }
 }

@@ -193,6 +193,19 @@ fn shorten_numbers(message: &str) -> String {
     out
 }
 
+impl AppError {
+    /// A 408: the request (its body) did not arrive in time.
+    pub fn timeout(message: impl Into<String>) -> Self {
+        Self { status: StatusCode::REQUEST_TIMEOUT, message: message.into(), path: None }
+    }
+
+    /// A 400 about the request as a whole rather than a field of its body (e.g. a missing
+    /// `Host` header).
+    pub fn bad_request(message: impl Into<String>) -> Self {
+        Self { status: StatusCode::BAD_REQUEST, message: message.into(), path: None }
+    }
+}
+
 fn backticked<'a>(message: &'a str, prefix: &str) -> Option<&'a str> {
     let rest = message.strip_prefix(prefix)?;
     rest.split('`').next()

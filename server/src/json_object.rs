@@ -23,8 +23,16 @@ impl<T: DeserializeOwned + Send> FromRequest<AppState> for JsonObject<T> {
 
     async fn from_request(req: Request, state: &AppState) -> Result<Self, AppError> {
         check_content_type(req.headers().get(header::CONTENT_TYPE))?;
-        let body = Bytes::from_request(req, state)
+        // A body that trickles in is refused with 408 once `body_timeout` has passed.
+        let limit = state.config.body_timeout;
+        let body = tokio::time::timeout(limit, Bytes::from_request(req, state))
             .await
+            .map_err(|_| {
+                AppError::timeout(format!(
+                    "the request body did not arrive within {} s (limit body_timeout)",
+                    limit.as_secs_f64()
+                ))
+            })?
             .map_err(|e| AppError::body(e, state.config.max_body_bytes))?;
         read_object(&body).map(Self)
     }
@@ -52,9 +60,9 @@ pub fn read_object<T: DeserializeOwned>(body: &[u8]) -> Result<T, AppError> {
 /// Refuses a body whose `Content-Type` is missing or not JSON (415).
 fn check_content_type(value: Option<&HeaderValue>) -> Result<(), AppError> {
     let given = value.map(|v| String::from_utf8_lossy(v.as_bytes()).into_owned());
-    let essence = given.as_deref().map(|v| {
-        v.split(';').next().unwrap_or_default().trim().to_ascii_lowercase()
-    });
+    let essence = given
+        .as_deref()
+        .map(|v| v.split(';').next().unwrap_or_default().trim().to_ascii_lowercase());
     match essence.as_deref() {
         Some("application/json") => Ok(()),
         Some(e) if e.starts_with("application/") && e.ends_with("+json") => Ok(()),

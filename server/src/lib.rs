@@ -21,7 +21,10 @@
 //!   compute at once, each holding a [`Slot`] ([`AppState::admit`]); one more gets 503;
 //! - [`json_object`]: [`JsonObject`], the extractor every body goes through;
 //! - [`routes`]: the handlers;
-//! - [`openapi`]: the document, gathered from all of the above.
+//! - [`openapi`]: the document, gathered from all of the above;
+//! - [`serve`]: the connection layer the binary serves [`app`] with: timeouts on request
+//!   heads and stalled writes, a cap on connections, a shutdown that waits only for
+//!   requests in flight.
 #![warn(missing_docs)]
 
 pub mod compute;
@@ -32,6 +35,7 @@ pub mod observers;
 pub mod openapi;
 pub mod request;
 pub mod routes;
+pub mod serve;
 pub mod state;
 pub mod views;
 

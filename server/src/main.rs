@@ -2,12 +2,17 @@
 //! 127.0.0.1:8080) until Ctrl-C or SIGTERM, with the limits of [`Config`] as flags and
 //! environment variables (`nhlab --help`).
 //!
-//! Shutdown: on the signal it stops accepting connections, ends every open stream with a
-//! `shutdown` event (stopping its runs), lets JSON requests in flight finish, and exits
-//! after at most `--shutdown-grace` seconds.
+//! Connections are served by [`serve`](nhlab_server::serve), with its timeouts and cap as
+//! flags too.
+//!
+//! Shutdown: on the signal it stops accepting connections, closes idle ones and those that
+//! have not sent a whole request head, ends every open stream with a `shutdown` event
+//! (stopping its runs), lets JSON requests in flight finish, and exits 0 once every
+//! connection is closed. If requests are still open after `--shutdown-grace` seconds it
+//! exits anyway, with code 1.
 
 use clap::Parser;
-use nhlab_server::{AppState, Config, app};
+use nhlab_server::{AppState, Config, app, serve};
 use std::io::IsTerminal;
 use std::time::Duration;
 use tokio::sync::watch;
@@ -17,7 +22,7 @@ use tracing_subscriber::EnvFilter;
 ///
 /// Every option can also be set by the environment variable shown.
 #[derive(Debug, Parser)]
-#[command(version, about)]
+#[command(name = "nhlab", version, about)]
 struct Args {
     /// Address to listen on, HOST:PORT (the container sets 0.0.0.0:8080).
     #[arg(long, env = "NHLAB_ADDR", default_value = "127.0.0.1:8080")]
@@ -41,6 +46,15 @@ struct Args {
     /// Most methods per request.
     #[arg(long, env = "NHLAB_MAX_METHODS", default_value_t = defaults().max_methods)]
     max_methods: usize,
+    /// Most bytes one request's answer may hold (series × points × bytes per point, estimated
+    /// before any work; more: 422 with the estimate).
+    #[arg(long, env = "NHLAB_MAX_ANSWER_BYTES", default_value_t = defaults().max_answer_bytes)]
+    max_answer_bytes: u64,
+    /// Most bytes all answers in flight may hold together, those still being written to slow
+    /// clients included (more: 503).
+    #[arg(long, env = "NHLAB_MAX_INFLIGHT_BYTES",
+          default_value_t = defaults().max_inflight_bytes)]
+    max_inflight_bytes: u64,
     /// Largest request body, in bytes (larger: 413).
     #[arg(long, env = "NHLAB_MAX_BODY_BYTES", default_value_t = defaults().max_body_bytes)]
     max_body_bytes: usize,
@@ -54,6 +68,23 @@ struct Args {
     #[arg(long, env = "NHLAB_SHUTDOWN_GRACE", default_value_t = 10.0,
           value_parser = grace)]
     shutdown_grace: f64,
+    /// Seconds a client has to send a whole request head (also how long an idle keep-alive
+    /// connection stays open); then the connection is closed.
+    #[arg(long, env = "NHLAB_HEADER_TIMEOUT", default_value_t = 10.0, value_parser = timeout)]
+    header_timeout: f64,
+    /// Seconds a request body has to arrive once its handler reads it (later: 408).
+    #[arg(long, env = "NHLAB_BODY_TIMEOUT", default_value_t = 10.0, value_parser = timeout)]
+    body_timeout: f64,
+    /// Seconds a response (or a stream) may go without any write progress, the client not
+    /// reading, before its connection is closed (which stops the stream's runs).
+    #[arg(long, env = "NHLAB_WRITE_TIMEOUT", default_value_t = 30.0, value_parser = timeout)]
+    write_timeout: f64,
+    /// Most connections open at once; more wait in the listen backlog until one closes.
+    /// Default: 1024, or the open-file limit (ulimit -n) minus 64 if lower.
+    #[arg(long, env = "NHLAB_MAX_CONNECTIONS",
+          default_value_t = nhlab_server::serve::default_max_connections(),
+          value_parser = connections)]
+    max_connections: usize,
 }
 
 fn defaults() -> Config {
@@ -81,6 +112,20 @@ fn grace(s: &str) -> Result<f64, String> {
     }
 }
 
+fn timeout(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x > 0.0 && x <= 3600.0 => Ok(x),
+        _ => Err("seconds, more than 0 and at most 3600".into()),
+    }
+}
+
+fn connections(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if (1..=1_000_000).contains(&n) => Ok(n),
+        _ => Err("a number of connections between 1 and 1000000".into()),
+    }
+}
+
 impl Args {
     fn config(&self) -> Config {
         Config {
@@ -90,14 +135,24 @@ impl Args {
             max_points: self.max_points,
             max_methods: self.max_methods,
             max_body_bytes: self.max_body_bytes,
+            max_answer_bytes: self.max_answer_bytes,
+            max_inflight_bytes: self.max_inflight_bytes,
             cors_origins: self.cors_origin.clone(),
+            body_timeout: Duration::from_secs_f64(self.body_timeout),
             ..Config::default()
+        }
+    }
+
+    fn serving(&self) -> serve::Options {
+        serve::Options {
+            header_timeout: Duration::from_secs_f64(self.header_timeout),
+            write_timeout: Duration::from_secs_f64(self.write_timeout),
+            max_connections: self.max_connections,
         }
     }
 }
 
-#[tokio::main]
-async fn main() -> std::process::ExitCode {
+fn main() -> std::process::ExitCode {
     tracing_subscriber::fmt()
         .with_env_filter(
             EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info")),
@@ -106,6 +161,25 @@ async fn main() -> std::process::ExitCode {
         .with_ansi(std::io::stderr().is_terminal())
         .init();
     let args = Args::parse();
+    let config = args.config();
+    // The blocking pool follows the slots: every run of every admitted simulation, its
+    // property measurements and the checks at once, and no more threads than that whatever
+    // arrives (tokio's default is 512).
+    let blocking = config.max_simulations * (config.max_methods + 2) + 4;
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .max_blocking_threads(blocking)
+        .build();
+    match runtime {
+        Ok(runtime) => runtime.block_on(serve_until_stopped(args, config)),
+        Err(e) => {
+            tracing::error!("cannot start the async runtime: {e}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+async fn serve_until_stopped(args: Args, config: Config) -> std::process::ExitCode {
     let listener = match tokio::net::TcpListener::bind(&args.addr).await {
         Ok(l) => l,
         Err(e) => {
@@ -121,9 +195,9 @@ async fn main() -> std::process::ExitCode {
         Err(e) => tracing::warn!("listening, address unknown: {e}"),
     }
     let grace = Duration::from_secs_f64(args.shutdown_grace);
-    let state = AppState::new(args.config());
+    let state = AppState::new(config);
     let (stop_tx, mut stop_rx) = watch::channel(false);
-    let server = axum::serve(listener, app(state.clone())).with_graceful_shutdown(async move {
+    let server = serve::serve(listener, app(state.clone()), args.serving(), async move {
         signals.await;
         tracing::info!("shutting down: no new connections, ending streams, finishing requests");
         state.shut_down();
@@ -134,17 +208,12 @@ async fn main() -> std::process::ExitCode {
         tokio::time::sleep(grace).await;
     };
     tokio::select! {
-        result = server => {
-            if let Err(e) = result {
-                tracing::error!("server error: {e}");
-                return std::process::ExitCode::FAILURE;
-            }
-        }
+        () = server => tracing::info!("every connection closed; exiting"),
         () = deadline => {
-            tracing::warn!("requests still open after {grace:?}; exiting");
+            tracing::error!("requests still open after the grace period ({grace:?}); exiting (1)");
             // Returning would drop the runtime, which waits for blocking tasks (runs still
             // computing) without bound; the grace period is over.
-            std::process::exit(0);
+            std::process::exit(1);
         }
     }
     std::process::ExitCode::SUCCESS

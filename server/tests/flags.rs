@@ -25,9 +25,21 @@ fn help_documents_every_flag_and_its_variable() {
         ("--max-body-bytes", "NHLAB_MAX_BODY_BYTES"),
         ("--cors-origin", "NHLAB_CORS_ORIGIN"),
         ("--shutdown-grace", "NHLAB_SHUTDOWN_GRACE"),
+        ("--header-timeout", "NHLAB_HEADER_TIMEOUT"),
+        ("--body-timeout", "NHLAB_BODY_TIMEOUT"),
+        ("--write-timeout", "NHLAB_WRITE_TIMEOUT"),
+        ("--max-connections", "NHLAB_MAX_CONNECTIONS"),
     ] {
         assert!(help.contains(flag) && help.contains(env), "{flag} / {env} missing:\n{help}");
     }
+}
+
+#[test]
+fn version_names_the_binary() {
+    let out = Command::new(BINARY).arg("--version").output().unwrap();
+    assert!(out.status.success());
+    let version = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(version.trim(), format!("nhlab {}", env!("CARGO_PKG_VERSION")));
 }
 
 #[test]
@@ -37,6 +49,10 @@ fn bad_values_stop_the_binary_with_a_message() {
         &["--cors-origin", "lab.example.org"],
         &["--shutdown-grace", "4000"],
         &["--max-points", "many"],
+        &["--header-timeout", "0"],
+        &["--body-timeout", "0.0"],
+        &["--write-timeout", "forever"],
+        &["--max-connections", "0"],
     ] {
         let out = Command::new(BINARY).args(args).env_remove("NHLAB_ADDR").output().unwrap();
         assert!(!out.status.success(), "{args:?} accepted");

@@ -1,6 +1,7 @@
 //! Shutdown of the real binary: on SIGTERM (or Ctrl-C, SIGINT) it stops accepting
 //! connections, ends every open stream with a `shutdown` event, lets a JSON request in flight
-//! finish, and exits; a JSON request longer than `--shutdown-grace` does not hold it up.
+//! finish, and exits 0; a JSON request longer than `--shutdown-grace` does not hold it up (the
+//! exit is then 1), and neither do idle connections nor a request head sent in part.
 
 mod common;
 
@@ -121,8 +122,43 @@ async fn ctrl_c_exits_and_the_grace_period_bounds_the_wait() {
         tokio::spawn(reqwest::Client::new().post(format!("{url}/simulate")).json(&request).send());
     until_runs(&url, 1).await;
     server.signal("TERM");
-    let exited = server.wait_exit(Duration::from_secs(5));
-    eprintln!("busy server exited {exited:?} after SIGTERM (grace 0.5 s)");
+    let (status, exited) = server.wait_status(Duration::from_secs(5));
+    eprintln!("busy server exited {exited:?} after SIGTERM (grace 0.5 s): {status}");
     assert!(exited >= Duration::from_millis(400), "it waited for the request: {exited:?}");
+    assert_eq!(status.code(), Some(1), "a forced exit is a failure");
     assert!(in_flight.await.unwrap().is_err(), "the connection closed unanswered");
+    let log = server.drain_log();
+    assert!(log.iter().any(|l| l.contains("grace period")), "{log:#?}");
+}
+
+#[test]
+fn idle_and_half_open_connections_do_not_hold_up_shutdown() {
+    use std::io::{Read, Write};
+    use std::net::TcpStream;
+    // Timeouts far beyond the test: only shutdown itself may close these connections.
+    let mut server = start(&["--shutdown-grace", "30", "--header-timeout", "600"]);
+    let address = server.url.trim_start_matches("http://").to_owned();
+    let connect = || TcpStream::connect(&address).unwrap();
+    // Half a request head.
+    let mut half = connect();
+    half.write_all(b"POST /simulate HTTP/1.1\r\nHost: nhlab\r\nContent-Ty").unwrap();
+    // A kept-alive connection, idle after one answered request.
+    let mut idle = connect();
+    idle.write_all(b"GET /health HTTP/1.1\r\nHost: nhlab\r\n\r\n").unwrap();
+    let mut answer = [0; 4096];
+    let n = idle.read(&mut answer).unwrap();
+    assert!(answer[..n].starts_with(b"HTTP/1.1 200"), "{}", String::from_utf8_lossy(&answer));
+    // A connection that says nothing at all.
+    let silent = connect();
+    std::thread::sleep(Duration::from_millis(200));
+
+    server.signal("TERM");
+    let exited = server.wait_exit(Duration::from_secs(10));
+    eprintln!("exited {exited:?} after SIGTERM with a half-sent head open (grace 30 s)");
+    assert!(exited < Duration::from_secs(2), "{exited:?}");
+    // Each was closed by the server, without an answer.
+    for mut stream in [half, idle, silent] {
+        stream.set_read_timeout(Some(Duration::from_secs(1))).unwrap();
+        assert!(matches!(stream.read(&mut answer), Ok(0) | Err(_)));
+    }
 }

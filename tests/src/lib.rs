@@ -4,10 +4,11 @@
 
 use futures_util::StreamExt;
 use futures_util::stream::BoxStream;
-use nhlab_server::{AppState, Config, app};
+use nhlab_server::{AppState, Config, app, serve};
 use serde_json::Value;
 
-/// The app served on 127.0.0.1:<free port>, stopped when dropped.
+/// The app served on 127.0.0.1:<free port> by the binary's connection layer
+/// ([`serve::serve`]), stopped when dropped.
 #[derive(Debug)]
 pub struct TestServer {
     /// `http://127.0.0.1:<port>`.
@@ -25,14 +26,17 @@ impl TestServer {
 
     /// Starts the app with `config`.
     pub async fn with_config(config: Config) -> Self {
+        Self::with_options(config, serve::Options::default()).await
+    }
+
+    /// Starts the app with `config`, its connections served with `options`.
+    pub async fn with_options(config: Config, options: serve::Options) -> Self {
         let listener =
             tokio::net::TcpListener::bind("127.0.0.1:0").await.expect("bind 127.0.0.1:0");
         let url = format!("http://{}", listener.local_addr().expect("local address"));
         let state = AppState::new(config);
         let router = app(state.clone());
-        let task = tokio::spawn(async move {
-            axum::serve(listener, router).await.expect("server runs");
-        });
+        let task = tokio::spawn(serve::serve(listener, router, options, std::future::pending()));
         Self { url, state, task }
     }
 

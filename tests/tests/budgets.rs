@@ -5,8 +5,8 @@
 use nhlab_server::{AppState, Config};
 use nhlab_tests::{SseReader, TestServer};
 use serde_json::{Value, json};
-use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use std::time::{Duration, Instant};
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
 
 async fn health(server: &TestServer) -> Value {
     reqwest::get(server.at("/health")).await.unwrap().json().await.unwrap()
@@ -48,9 +48,8 @@ async fn answers_in_flight_share_one_budget_until_written() {
     .to_string();
     // A client that sends its request and does not read the answer (async: the server runs
     // on this test's runtime).
-    let mut stalled = tokio::net::TcpStream::connect(s.url.trim_start_matches("http://"))
-        .await
-        .unwrap();
+    let mut stalled =
+        tokio::net::TcpStream::connect(s.url.trim_start_matches("http://")).await.unwrap();
     let request = format!(
         "POST /simulate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\
          Connection: close\r\nContent-Length: {}\r\n\r\n{body}",
@@ -61,8 +60,7 @@ async fn answers_in_flight_share_one_budget_until_written() {
     let start = Instant::now();
     loop {
         let h = health(&s).await;
-        if h["active_runs"] == 0 && h["simulations"] == 0 && h["answer_bytes"].as_u64() > Some(0)
-        {
+        if h["active_runs"] == 0 && h["simulations"] == 0 && h["answer_bytes"].as_u64() > Some(0) {
             break;
         }
         assert!(start.elapsed() < Duration::from_secs(20), "{h}");
@@ -172,10 +170,8 @@ async fn a_run_shorter_than_a_progress_interval_still_reports_progress() {
     let body = json!({"system": "knife_edge", "t_end": 1, "methods": ["leapfrog", "dd"]});
     let events = SseReader::new(s.post_stream("/simulate", &body).await).collect().await;
     for run in 0..2 {
-        let progress: Vec<_> = events
-            .iter()
-            .filter(|e| e.event == "progress" && e.data["run"] == run)
-            .collect();
+        let progress: Vec<_> =
+            events.iter().filter(|e| e.event == "progress" && e.data["run"] == run).collect();
         let last = progress.last().unwrap_or_else(|| panic!("no progress for run {run}"));
         assert_eq!(last.data["fraction"], 1.0, "{last:?}");
     }

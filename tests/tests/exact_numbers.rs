@@ -24,7 +24,8 @@ impl Iterator for Words {
 /// ordinary size (where one ulp off was seen), with 0.9999999999999999 and friends.
 fn doubles(n: usize) -> Vec<f64> {
     let mut words = Words(0x9e37_79b9_7f4a_7c15);
-    let mut out = vec![0.9999999999999999, 1.0000000000000002, 0.1, 5e-324, -2.2250738585072014e-308];
+    let mut out =
+        vec![0.9999999999999999, 1.0000000000000002, 0.1, 5e-324, -2.2250738585072014e-308];
     while out.len() < n {
         let w = words.next().unwrap_or_default();
         let x = if out.len() % 2 == 0 {
@@ -63,7 +64,13 @@ fn ten_thousand_doubles_round_trip_through_the_scene() {
             }
         }
     }
-    assert!(off.is_empty(), "{} of {} doubles came back changed: {:?}", off.len(), xs.len(), &off[..off.len().min(5)]);
+    assert!(
+        off.is_empty(),
+        "{} of {} doubles came back changed: {:?}",
+        off.len(),
+        xs.len(),
+        &off[..off.len().min(5)]
+    );
 }
 
 #[tokio::test]
@@ -115,11 +122,8 @@ async fn errors_write_huge_numbers_short() {
         let (status, error) = s.post_json("/simulate", &body).await;
         assert!(status == 400 || status == 422, "{status} {error}");
         let message = error["error"].as_str().unwrap_or_default();
-        let longest = message
-            .split(|c: char| !c.is_ascii_digit())
-            .map(str::len)
-            .max()
-            .unwrap_or_default();
+        let longest =
+            message.split(|c: char| !c.is_ascii_digit()).map(str::len).max().unwrap_or_default();
         assert!(longest <= 17, "{longest} digits in a row: {message}");
     }
 }

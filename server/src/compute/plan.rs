@@ -1,9 +1,7 @@
 //! [`Plan`]: a `/simulate` request resolved and checked against the core and the limits,
 //! ready to run. Every error names the field at fault.
 
-use crate::compute::{
-    Caches, JSON_BYTES_PER_POINT, KEPT_BYTES_PER_POINT, answer_bytes, mib,
-};
+use crate::compute::{Caches, JSON_BYTES_PER_POINT, KEPT_BYTES_PER_POINT, answer_bytes, mib};
 use crate::config::Config;
 use crate::error::AppError;
 use crate::request::{MethodRequest, SimulateRequest};

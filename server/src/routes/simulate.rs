@@ -17,10 +17,10 @@ use crate::state::AppState;
 use crate::views::{RunView, SimulateResponse};
 use axum::body::{Body, Bytes};
 use axum::extract::State;
-use futures_util::StreamExt;
-use std::convert::Infallible;
 use axum::http::{HeaderMap, header};
 use axum::response::{IntoResponse, Response};
+use futures_util::StreamExt;
+use std::convert::Infallible;
 
 /// Runs methods on a scene and reports the error of each first integral over time.
 #[utoipa::path(
@@ -92,7 +92,8 @@ pub async fn simulate(
                 Ok(body)
             })
             .await?;
-            Ok(([(header::CONTENT_TYPE, "application/json")], chunked(body, budget)).into_response())
+            Ok(([(header::CONTENT_TYPE, "application/json")], chunked(body, budget))
+                .into_response())
         }
     }
 }

@@ -4,7 +4,7 @@
 
 use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
@@ -21,7 +21,12 @@ pub struct Server {
 impl Server {
     /// Starts `binary` in `dir`, configured by `configure`, and waits for its address.
     pub fn start(binary: &Path, dir: &Path, configure: impl FnOnce(&mut Command)) -> Self {
-        let mut command = Command::new(binary);
+        Self::spawn(Command::new(binary), dir, configure)
+    }
+
+    /// Like [`start`](Self::start), with a command of the caller's (e.g. the binary run by a
+    /// shell that lowers a limit first).
+    pub fn spawn(mut command: Command, dir: &Path, configure: impl FnOnce(&mut Command)) -> Self {
         command
             .current_dir(dir)
             .env_remove("NHLAB_ADDR")
@@ -83,11 +88,17 @@ impl Server {
 
     /// Waits up to `limit` for a successful exit; how long it took.
     pub fn wait_exit(&mut self, limit: Duration) -> Duration {
+        let (status, took) = self.wait_status(limit);
+        assert!(status.success(), "exit status {status}; log: {:#?}", self.drain_log());
+        took
+    }
+
+    /// Waits up to `limit` for the process to exit; its status and how long it took.
+    pub fn wait_status(&mut self, limit: Duration) -> (ExitStatus, Duration) {
         let start = Instant::now();
         loop {
             if let Some(status) = self.child.try_wait().unwrap() {
-                assert!(status.success(), "exit status {status}; log: {:#?}", self.drain_log());
-                return start.elapsed();
+                return (status, start.elapsed());
             }
             assert!(start.elapsed() < limit, "still running {limit:?} after the signal");
             std::thread::sleep(Duration::from_millis(10));
