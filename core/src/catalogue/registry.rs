@@ -64,9 +64,12 @@ pub struct SystemEntry {
     pub(crate) latitude: fn(Start<'_>) -> Result<LatitudeAxis, InputError>,
     pub(crate) run: fn(&RunInput<'_>, &Method, &RunConfig, &mut dyn Observer) -> RunOutcome,
     pub(crate) properties: fn(Start<'_>, f64, &Method) -> Result<Properties, StepFailure>,
-    pub(crate) reference:
-        fn(Start<'_>, f64, f64, &dyn Fn() -> bool) -> Result<ReferenceState, ReferenceError>,
+    pub(crate) reference: ReferenceFn,
 }
+
+/// The reference solve of a system: start, t_end, tolerance, stop flag.
+type ReferenceFn =
+    fn(Start<'_>, f64, f64, &dyn Fn() -> bool) -> Result<ReferenceState, ReferenceError>;
 
 /// A reference solution at t_end, sizes erased.
 #[derive(Debug, Clone, PartialEq)]
