@@ -1,7 +1,8 @@
 //! `POST /work-precision` against the real server: the levels and steps forms, the order of
 //! the knife edge's second-order methods measured from the final errors, the errors of bad
-//! fields with their paths, 503 when busy, a client leaving stops the runs, and the caches
-//! (reference and latitude axis) hit on a second request, as `/health` counts them.
+//! fields with their paths, 503 when busy, a client leaving stops the runs and the reference
+//! solve (which is then not cached), and the caches (reference and latitude axis) hit on a
+//! second request, as `/health` counts them.
 
 use nhlab_server::Config;
 use nhlab_tests::TestServer;
@@ -186,6 +187,32 @@ async fn a_busy_server_says_503_and_a_leaving_client_stops_the_runs() {
     drop(client);
     let took = server.wait_idle(Duration::from_millis(500)).await;
     eprintln!("work-precision stopped {took:?} after the client left");
+}
+
+/// The rotating CVT to t = 10⁴: a reference of about 5·10⁵ Dop853 steps, seconds of work
+/// before any row runs.
+#[tokio::test]
+async fn a_leaving_client_stops_a_long_reference_and_frees_its_slot() {
+    let server = TestServer::with_config(Config { max_simulations: 1, ..Config::default() }).await;
+    let body = json!({"system": "cvt_pendulum", "preset": "rotating", "t_end": 10000,
+                      "steps": [100], "methods": ["leapfrog"], "repeats": 1});
+    let send = reqwest::Client::new()
+        .post(server.at("/work-precision"))
+        .header("content-type", "application/json")
+        .body(body.to_string())
+        .send();
+    let request = tokio::spawn(send);
+    tokio::time::sleep(Duration::from_millis(500)).await;
+    assert!(!request.is_finished(), "the reference should take longer than 500 ms");
+    let h = health(&server).await;
+    assert_eq!((h["simulations"].as_u64(), h["active_runs"].as_u64()), (Some(1), Some(1)), "{h}");
+    request.abort(); // the client goes away: its connection closes
+    let took = server.wait_idle(Duration::from_secs(1)).await;
+    eprintln!("the reference stopped and its slot was free {took:?} after the client left");
+    let h = health(&server).await;
+    assert_eq!(h["simulations"], 0, "{h}");
+    // A cancelled reference is not the scene's: nothing is cached.
+    assert_eq!(h["cache"]["reference"], json!({"hits": 0, "misses": 1, "entries": 0}), "{h}");
 }
 
 #[tokio::test]

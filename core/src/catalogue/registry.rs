@@ -64,8 +64,12 @@ pub struct SystemEntry {
     pub(crate) latitude: fn(Start<'_>) -> Result<LatitudeAxis, InputError>,
     pub(crate) run: fn(&RunInput<'_>, &Method, &RunConfig, &mut dyn Observer) -> RunOutcome,
     pub(crate) properties: fn(Start<'_>, f64, &Method) -> Result<Properties, StepFailure>,
-    pub(crate) reference: fn(Start<'_>, f64, f64) -> Result<ReferenceState, ReferenceError>,
+    pub(crate) reference: ReferenceFn,
 }
+
+/// The reference solve of a system: start, t_end, tolerance, stop flag.
+type ReferenceFn =
+    fn(Start<'_>, f64, f64, &dyn Fn() -> bool) -> Result<ReferenceState, ReferenceError>;
 
 /// A reference solution at t_end, sizes erased.
 #[derive(Debug, Clone, PartialEq)]
@@ -107,9 +111,10 @@ impl SystemEntry {
                 let (q, v) = vectors::<N>(start);
                 LatitudeAxis::compute(&S::new(start.params), &q, &v)
             },
-            reference: |start, t_end, tol| {
+            reference: |start, t_end, tol, stop| {
                 let (q, v) = vectors::<N>(start);
-                let r = reference::reference(&S::new(start.params), &q, &v, t_end, tol)?;
+                let sys = S::new(start.params);
+                let r = reference::reference_until(&sys, &q, &v, t_end, tol, stop)?;
                 Ok(ReferenceState {
                     q: r.q.as_slice().to_vec(),
                     v: r.v.as_slice().to_vec(),

@@ -147,7 +147,17 @@ impl Scene {
         &self,
         tol: f64,
     ) -> Result<ReferenceState, crate::measure::reference::ReferenceError> {
-        (self.system.reference)(self.start(), self.t_end, tol)
+        self.reference_until(tol, &|| false)
+    }
+
+    /// [`reference`](Self::reference), cancelled when `stop()` turns true (looked at every
+    /// [`STOP_EVERY`](crate::measure::reference::STOP_EVERY) steps).
+    pub fn reference_until(
+        &self,
+        tol: f64,
+        stop: &dyn Fn() -> bool,
+    ) -> Result<ReferenceState, crate::measure::reference::ReferenceError> {
+        (self.system.reference)(self.start(), self.t_end, tol, stop)
     }
 
     /// Checks `integrals` against the system (all it has when `None`) and computes the

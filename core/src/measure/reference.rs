@@ -11,12 +11,20 @@
 //! rounds ζ to 10⁻¹², and a relative tolerance on ζ lets 10⁻⁹ per step through; together
 //! they held the reference at ~10⁻⁷ at t = 3000, where this one agrees with tighter solves to
 //! ~10⁻⁹ (`core/tests/reference.rs`).
+//!
+//! Memory does not grow with the number of steps. Dop853 keeps every accepted step in its
+//! output (its dense mode, which keeps fewer, costs three more evaluations per step and misplaces
+//! a point at the end of the interval), so each solver runs at most [`CHUNK`] steps: `solout`
+//! stops it there and a new one continues from the last state with the last step size. A caller
+//! that must be able to stop (a server whose client went away) passes a `stop` flag to
+//! [`reference_until`], looked at in `solout` every [`STOP_EVERY`] accepted steps.
 
 use crate::Vector;
 use crate::model::system::System;
 use nalgebra::DVector;
 use ode_solvers::dop_shared::OutputType;
 use ode_solvers::dop853::Dop853;
+use std::cell::RefCell;
 use std::f64::consts::TAU;
 
 /// Default relative and absolute tolerance.
@@ -25,9 +33,15 @@ pub const TOL: f64 = 1e-15;
 /// Time between restarts that bring an angle ζ back near 0.
 pub const SEGMENT: f64 = 1.0;
 
-/// Most Dop853 steps per reference solve (a few seconds): beyond, the solve fails rather
-/// than hold a thread.
+/// Most Dop853 steps per reference solve: beyond, the solve fails rather than hold a thread.
 pub const MAX_STEPS: u32 = 2_000_000;
+
+/// Accepted steps between two looks at the stop flag of [`reference_until`].
+pub const STOP_EVERY: u32 = 1000;
+
+/// Most accepted steps of one Dop853 solver, which keeps them all: beyond, a new solver
+/// continues.
+pub const CHUNK: u32 = 1000;
 
 /// Why a reference solve failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -38,6 +52,9 @@ pub enum ReferenceError {
     /// The solution became non-finite.
     #[error("reference solve diverged")]
     Diverged,
+    /// The caller's stop flag turned true.
+    #[error("reference solve cancelled")]
+    Cancelled,
 }
 
 /// A reference solution at `t_end`.
@@ -53,10 +70,29 @@ pub struct Reference<const N: usize> {
     pub evaluations: u32,
     /// Accepted steps.
     pub steps: u32,
+    /// Most states one Dop853 solver kept: at most [`CHUNK`] + 1, whatever the number of
+    /// steps.
+    pub stored: usize,
+}
+
+/// What `solout` counts and decides across the solvers of one solve.
+#[derive(Default)]
+struct Track {
+    /// Accepted steps over all solvers.
+    steps: u32,
+    /// Accepted steps of the current solver.
+    chunk: u32,
+    /// The current solver stopped at [`CHUNK`] steps, before its end.
+    paused: bool,
+    cancelled: bool,
 }
 
 struct Ode<'a, S, const N: usize, const R: usize> {
     sys: &'a S,
+    /// The end of the current solver's interval.
+    t1: f64,
+    track: &'a RefCell<Track>,
+    stop: &'a dyn Fn() -> bool,
 }
 
 impl<S: System<N, R>, const N: usize, const R: usize> ode_solvers::System<f64, DVector<f64>>
@@ -73,6 +109,22 @@ impl<S: System<N, R>, const N: usize, const R: usize> ode_solvers::System<f64, D
             dy[N + i] = a[i];
         }
     }
+
+    /// Called after each accepted step, ending at `x`; returning true ends `integrate`.
+    fn solout(&mut self, x: f64, _y: &DVector<f64>, _dy: &DVector<f64>) -> bool {
+        let mut track = self.track.borrow_mut();
+        track.steps += 1;
+        track.chunk += 1;
+        if track.steps.is_multiple_of(STOP_EVERY) && (self.stop)() {
+            track.cancelled = true;
+            return true;
+        }
+        if track.chunk >= CHUNK && x < self.t1 {
+            track.paused = true;
+            return true;
+        }
+        false
+    }
 }
 
 /// Solves from `(q, v)` at t = 0 to `t_end` with relative and absolute tolerance `tol`.
@@ -83,40 +135,74 @@ pub fn reference<S: System<N, R>, const N: usize, const R: usize>(
     t_end: f64,
     tol: f64,
 ) -> Result<Reference<N>, ReferenceError> {
+    reference_until(sys, q, v, t_end, tol, &|| false)
+}
+
+/// [`reference`], stopped with [`ReferenceError::Cancelled`] when `stop()` turns true; it is
+/// looked at every [`STOP_EVERY`] accepted steps.
+pub fn reference_until<S: System<N, R>, const N: usize, const R: usize>(
+    sys: &S,
+    q: &Vector<N>,
+    v: &Vector<N>,
+    t_end: f64,
+    tol: f64,
+    stop: &dyn Fn() -> bool,
+) -> Result<Reference<N>, ReferenceError> {
     let mut y = DVector::from_iterator(2 * N, q.iter().chain(v.iter()).copied());
-    let (mut t, mut turns, mut evaluations, mut steps) = (0.0, 0.0, 0, 0);
+    let track = RefCell::new(Track::default());
+    let (mut t, mut turns, mut evaluations, mut steps, mut stored) = (0.0, 0.0, 0, 0, 0);
     while t < t_end {
         let t1 = if S::ZETA_IS_ANGLE { (t + SEGMENT).min(t_end) } else { t_end };
-        let budget = MAX_STEPS.saturating_sub(steps);
-        if budget == 0 {
-            return Err(ReferenceError::Solver(format!(
-                "more than {MAX_STEPS} steps needed (stopped at t = {t})"
-            )));
-        }
-        let mut solver = Dop853::from_param(
-            Ode::<S, N, R> { sys },
-            t,
-            t1,
-            t1 - t,
-            y,
-            tol,
-            tol,
-            // ode_solvers' defaults: safety factor, β, step-ratio bounds, h_max, initial h.
-            0.9,
-            0.0,
-            0.333,
-            6.0,
-            t1 - t,
-            0.0,
-            budget,
-            1000,
-            OutputType::Sparse,
-        );
-        let stats = solver.integrate().map_err(|e| ReferenceError::Solver(e.to_string()))?;
-        (evaluations, steps) = (evaluations + stats.num_eval, steps + stats.accepted_steps);
-        y = solver.y_out().last().cloned().unwrap_or_default();
-        if y.len() != 2 * N || y.iter().any(|x| !x.is_finite()) {
-            return Err(ReferenceError::Diverged);
+        // Dop853 picks the first step of a segment; a solver that continues one takes the
+        // last step size.
+        let (mut x, mut h) = (t, 0.0);
+        loop {
+            let budget = MAX_STEPS.saturating_sub(steps);
+            if budget == 0 {
+                return Err(ReferenceError::Solver(format!(
+                    "more than {MAX_STEPS} steps needed (stopped at t = {x})"
+                )));
+            }
+            {
+                let mut tracked = track.borrow_mut();
+                (tracked.chunk, tracked.paused) = (0, false);
+            }
+            let mut solver = Dop853::from_param(
+                Ode::<S, N, R> { sys, t1, track: &track, stop },
+                x,
+                t1,
+                t1 - x,
+                y,
+                tol,
+                tol,
+                // ode_solvers' defaults: safety factor, β, step-ratio bounds, h_max (the
+                // segment), initial h.
+                0.9,
+                0.0,
+                0.333,
+                6.0,
+                t1 - t,
+                h,
+                budget,
+                1000,
+                OutputType::Sparse,
+            );
+            let stats = solver.integrate().map_err(|e| ReferenceError::Solver(e.to_string()))?;
+            (evaluations, steps) = (evaluations + stats.num_eval, steps + stats.accepted_steps);
+            let (xs, ys) = (solver.x_out(), solver.y_out());
+            stored = stored.max(ys.len());
+            y = ys.last().cloned().unwrap_or_default();
+            if y.len() != 2 * N || y.iter().any(|x| !x.is_finite()) {
+                return Err(ReferenceError::Diverged);
+            }
+            let tracked = track.borrow();
+            if tracked.cancelled {
+                return Err(ReferenceError::Cancelled);
+            }
+            if !tracked.paused {
+                break;
+            }
+            (x, h) = (xs[xs.len() - 1], xs[xs.len() - 1] - xs[xs.len() - 2]);
         }
         if S::ZETA_IS_ANGLE {
             let k = (y[N - 1] / TAU).round();
@@ -133,5 +219,6 @@ pub fn reference<S: System<N, R>, const N: usize, const R: usize>(
         constraint_residual: sys.constraint_residual(&qe, &ve),
         evaluations,
         steps,
+        stored,
     })
 }

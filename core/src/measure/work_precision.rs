@@ -2,8 +2,9 @@
 //! what a run costs (the minimum wall time of a few repetitions, so a short run is not timed by
 //! noise) and what it buys — the final error in (q, q̇) against the Dop853 reference at t_end, and
 //! the largest error of each integral. A caller that must be able to stop (a server whose client
-//! went away) passes a `stop` flag to [`measure_until`], looked at every few thousand steps and
-//! between repetitions.
+//! went away) passes a `stop` flag to [`reference_until`] and [`measure_until`], looked at every
+//! few thousand steps (every [`STOP_EVERY`](crate::measure::reference::STOP_EVERY) steps of
+//! the reference's) and between repetitions.
 
 use crate::catalogue::registry::ReferenceState;
 use crate::measure::reference::{ReferenceError, TOL};
@@ -61,8 +62,17 @@ impl Observer for Watch<'_> {
 
 /// Solves the reference for `scene` (its t_end) once.
 pub fn reference(scene: &PreparedScene) -> Result<ReferenceSummary, ReferenceError> {
+    reference_until(scene, &|| false)
+}
+
+/// [`reference`], ended with [`ReferenceError::Cancelled`] when `stop()` turns true (looked
+/// at every [`STOP_EVERY`](crate::measure::reference::STOP_EVERY) Dop853 steps).
+pub fn reference_until(
+    scene: &PreparedScene,
+    stop: &dyn Fn() -> bool,
+) -> Result<ReferenceSummary, ReferenceError> {
     let t = Instant::now();
-    let state = scene.scene.reference(TOL)?;
+    let state = scene.scene.reference_until(TOL, stop)?;
     Ok(ReferenceSummary { state, elapsed_ms: t.elapsed().as_secs_f64() * 1e3 })
 }
 

@@ -9,8 +9,9 @@
 //! `Mutex` that is held only to look up or insert, never while computing nor across an
 //! await: two requests missing the same key at once both compute it, and the second insert
 //! is a no-op. Results are deterministic functions of their key, so errors are cached too
-//! (a scene whose axis is undefined stays so). Hits, misses and sizes are reported by
-//! `GET /health` as `cache`.
+//! (a scene whose axis is undefined stays so), except a reference solve cancelled because its
+//! client went away ([`Cache::get_or_compute_keeping`]), which says nothing of the scene.
+//! Hits, misses and sizes are reported by `GET /health` as `cache`.
 
 use crate::views::{CacheStats, CachesStats};
 use nhlab_core::measure::latitude::LatitudeAxis;
@@ -111,12 +112,26 @@ impl<K: Clone + Eq + Hash, V: Clone> Cache<K, V> {
     /// The value of `key`, and whether it came from the cache; on a miss `compute` runs
     /// without the lock held and its value is kept.
     pub fn get_or_compute(&self, key: K, compute: impl FnOnce() -> V) -> (V, bool) {
+        self.get_or_compute_keeping(key, compute, |_| true)
+    }
+
+    /// [`get_or_compute`](Self::get_or_compute), keeping the computed value only if `keep`
+    /// says so (a computation that was interrupted is not the key's value).
+    pub fn get_or_compute_keeping(
+        &self,
+        key: K,
+        compute: impl FnOnce() -> V,
+        keep: impl FnOnce(&V) -> bool,
+    ) -> (V, bool) {
         if let Some(v) = self.lock().map.get(&key).cloned() {
             self.hits.fetch_add(1, Ordering::Relaxed);
             return (v, true);
         }
         self.misses.fetch_add(1, Ordering::Relaxed);
         let value = compute();
+        if !keep(&value) {
+            return (value, false);
+        }
         let mut entries = self.lock();
         if !entries.map.contains_key(&key) {
             if entries.map.len() >= CAPACITY
@@ -163,5 +178,15 @@ mod tests {
         // Key 1 was the oldest: evicted; key 2 is still there.
         assert_eq!(cache.get_or_compute(2, || 0), (20, true));
         assert_eq!(cache.get_or_compute(1, || 11), (11, false));
+    }
+
+    #[test]
+    fn a_value_not_kept_is_computed_again() {
+        let cache: Cache<u32, Result<u32, ()>> = Cache::default();
+        let kept = |v: &Result<u32, ()>| v.is_ok();
+        assert_eq!(cache.get_or_compute_keeping(1, || Err(()), kept), (Err(()), false));
+        assert_eq!(cache.stats().entries, 0);
+        assert_eq!(cache.get_or_compute_keeping(1, || Ok(7), kept), (Ok(7), false));
+        assert_eq!(cache.get_or_compute_keeping(1, || Ok(8), kept), (Ok(7), true));
     }
 }

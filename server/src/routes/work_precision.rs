@@ -5,10 +5,14 @@
 //! error of each integral (`nhlab_core::work_precision`).
 //!
 //! Like `/simulate`: input checked field by field before admission, one simulation slot,
-//! the computation on the blocking pool, stopped when the client goes away. The reference
-//! is kept across requests in [`Caches`] (`reference.cached` says whether
-//! this request reused one). Its solve cannot be interrupted, but Dop853 stops by itself
-//! after 10⁵ steps, so its cost is bounded whatever t_end is.
+//! the computation on the blocking pool, stopped when the client goes away — the reference
+//! solve too, which looks at the flag every [`STOP_EVERY`] Dop853 steps. The reference is
+//! kept across requests in [`Caches`] (`reference.cached` says whether this request reused
+//! one) unless it was cancelled. Its solve fails beyond [`MAX_STEPS`] Dop853 steps, so its
+//! cost is bounded whatever t_end is; its memory does not grow with the steps.
+//!
+//! [`STOP_EVERY`]: nhlab_core::measure::reference::STOP_EVERY
+//! [`MAX_STEPS`]: nhlab_core::measure::reference::MAX_STEPS
 
 use crate::compute::{
     Caches, Cancel, Delivery, KEPT_BYTES_PER_POINT, Plan, ReferenceKey, Slot, lower_priority,
@@ -20,8 +24,8 @@ use crate::state::AppState;
 use crate::views::{ReferenceView, Status, WorkPrecisionResponse, WorkPrecisionRow};
 use axum::Json;
 use axum::extract::State;
-use nhlab_core::measure::reference::TOL;
-use nhlab_core::measure::work_precision::{measure_until, reference};
+use nhlab_core::measure::reference::{ReferenceError, TOL};
+use nhlab_core::measure::work_precision::{measure_until, reference_until};
 use nhlab_core::{Scene, SceneRequest, Short};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -201,14 +205,19 @@ async fn run(state: &AppState, job: Job, slot: Slot) -> Result<WorkPrecisionResp
 fn compute(job: &Job, caches: &Caches, cancel: &Cancel) -> Result<WorkPrecisionResponse, AppError> {
     let prepared = &job.plan.prepared;
     let key = ReferenceKey::of(&prepared.scene, TOL);
-    let (solved, cached) = caches.reference.get_or_compute(key, || reference(prepared));
-    let r = solved.map_err(|e| {
-        AppError::invalid(
+    let stop = || cancel.is_cancelled();
+    let (solved, cached) = caches.reference.get_or_compute_keeping(
+        key,
+        || reference_until(prepared, &stop),
+        |r| r != &Err(ReferenceError::Cancelled),
+    );
+    let r = solved.map_err(|e| match e {
+        ReferenceError::Cancelled => AppError::internal("the work-precision run was cancelled"),
+        e => AppError::invalid(
             "t_end",
             format!("{e} (Dop853 to t_end at tolerance {TOL:e}); try a shorter t_end"),
-        )
+        ),
     })?;
-    let stop = || cancel.is_cancelled();
     let mut rows = Vec::with_capacity(job.plan.methods.len() * job.steps.len());
     for (method, view) in job.plan.methods.iter().zip(&job.plan.scene.methods) {
         for &h in &job.steps {
