@@ -253,3 +253,27 @@ async fn beyond_the_connection_cap_new_clients_wait_their_turn() {
     }
     assert_eq!(health(&server).await["status"], "ok");
 }
+
+#[tokio::test]
+async fn requests_hyper_cannot_read_get_a_json_error_too() {
+    let server = TestServer::start().await;
+    let long_target = format!("GET /{} HTTP/1.1\r\nHost: nhlab\r\n\r\n", "a".repeat(70_000));
+    let headers: String = (0..200).map(|i| format!("X-A{i}: {}\r\n", "b".repeat(1000))).collect();
+    let big_head = format!("GET / HTTP/1.1\r\nHost: nhlab\r\n{headers}\r\n");
+    for (request, status, words) in [
+        ("GARBAGE\r\n\r\n".to_owned(), 400, "malformed"),
+        ("GET / HTTP/1.1\r\nHost: nhlab\r\nBad Header\r\n\r\n".to_owned(), 400, "malformed"),
+        (long_target, 414, "too long"),
+        (big_head, 431, "too large"),
+    ] {
+        let mut stream = connect(&server).await;
+        // The server may answer and close before it has read all of a huge head.
+        let _ = write_all(&stream, request.as_bytes()).await;
+        let (text, _) = until_closed(&mut stream, Duration::from_secs(5)).await;
+        let (got, body) = parse(&text);
+        assert_eq!(got, status, "{text}");
+        assert!(text.contains("content-type: application/json"), "{text}");
+        assert!(body["error"].as_str().unwrap_or_default().contains(words), "{body}");
+        assert_eq!(body["path"], Value::Null);
+    }
+}

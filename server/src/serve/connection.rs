@@ -1,8 +1,10 @@
 //! [`Connection`]: one accepted TCP connection served to its end: its socket wrapped with the
-//! write timeout and watched for pending writes ([`Tracked`]), its requests checked for
+//! write timeout and watched for pending writes ([`Tracked`]), the HTTP layer's own error
+//! responses given a JSON body ([`ErrorBodies`]), its requests checked for
 //! `Host` and counted while in flight ([`Activity`]), and its shutdown, which closes it as
 //! soon as it has nothing left to deliver.
 
+use super::error_bodies::ErrorBodies;
 use crate::error::AppError;
 use axum::Router;
 use axum::body::Body;
@@ -51,7 +53,8 @@ impl Connection {
         let activity = Arc::new(Activity::default());
         let mut timed = TimeoutStream::new(stream);
         timed.set_write_timeout(Some(write_timeout));
-        let io = TokioIo::new(Tracked { inner: Box::pin(timed), activity: activity.clone() });
+        let tracked = Tracked { inner: Box::pin(timed), activity: activity.clone() };
+        let io = TokioIo::new(ErrorBodies::new(tracked));
         // The app behind the `Host` check, each request counted in flight until its
         // response body is dropped (delivered, or abandoned with the connection).
         let app = TowerToHyperService::new(app);

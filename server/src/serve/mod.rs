@@ -25,6 +25,8 @@
 //!   server answers again as soon as descriptors free up.
 //! - **Host**: an HTTP/1.1 request without a `Host` header (and without an absolute-form
 //!   target) gets 400 with the API's JSON error, as RFC 9112 §3.2 asks.
+//! - **Unreadable requests**: the 400, 414 and 431 that hyper sends by itself for a request
+//!   it cannot parse get the API's JSON error body too (`error_bodies.rs`).
 //! - **Shutdown**: when the `shutdown` future of [`serve`] resolves the listener is closed
 //!   (new connections are refused), idle keep-alive connections and connections that have
 //!   not delivered a complete request head are closed at once, and each connection with a
@@ -32,6 +34,7 @@
 //!   when the last connection is closed; the caller bounds that wait (`--shutdown-grace`).
 
 mod connection;
+mod error_bodies;
 
 use axum::Router;
 use hyper::server::conn::http1;
