@@ -6,8 +6,9 @@ and, for DURATION seconds (default 60), runs at once:
   - 50 clients of mixed requests (small /simulate as JSON and as a stream, /scorecard of one
     scene, /work-precision, GET /systems), each retrying a 503 after its Retry-After;
   - 100 slow clients sending a request head one byte a second, reconnecting when cut off;
-  - 20 streams that are requested and never read (each a long run), reopened when closed;
-  - a flood of expensive checks: 50 at a time, each a scene whose latitude axis is not
+  - 20 streams that are requested and never read (each a long run with many points, so its
+    events soon fill the socket's buffers), reopened when the server closes them;
+  - a flood of checks that compute: 250 at a time, each a scene whose latitude axis is not
     cached (a new q each time), asking for a short run;
   - a prober, in a process of its own: GET /health every 50 ms, timing each answer.
 Then it closes every client and waits for the slots to be free.
@@ -35,7 +36,7 @@ import time
 MIXED = 50
 SLOW = 100
 STALLED = 20
-FLOOD = 50
+FLOOD = 250
 
 
 def free_port():
@@ -140,8 +141,8 @@ class Soak:
                 self.close(writer)
 
     async def stalled(self):
-        body = json.dumps({"system": "cvt_pendulum", "preset": "rotating", "t_end": 1e6,
-                           "points": 1000, "methods": ["leapfrog"]}).encode()
+        body = json.dumps({"system": "cvt_pendulum", "preset": "rotating", "t_end": 2e7,
+                           "points": 20000, "methods": ["leapfrog"]}).encode()
         while self.running():
             try:
                 reader, writer = await self.connect()
