@@ -165,13 +165,22 @@ fn main() -> std::process::ExitCode {
     // The blocking pool follows the slots: every run of every admitted simulation, its
     // property measurements and the checks at once, and no more threads than that whatever
     // arrives (tokio's default is 512).
-    let blocking = config.max_simulations * (config.max_methods + 2) + 4;
+    let blocking = config
+        .max_simulations
+        .saturating_mul(config.max_methods.saturating_add(2))
+        .saturating_add(4);
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .max_blocking_threads(blocking)
         .build();
     match runtime {
-        Ok(runtime) => runtime.block_on(serve_until_stopped(args, config)),
+        Ok(runtime) => {
+            let code = runtime.block_on(serve_until_stopped(args, config));
+            // Every connection is closed; computations still going (a check whose client
+            // left) have no one to answer and nothing to save: they do not hold up the exit.
+            runtime.shutdown_background();
+            code
+        }
         Err(e) => {
             tracing::error!("cannot start the async runtime: {e}");
             std::process::ExitCode::FAILURE

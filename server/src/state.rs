@@ -84,9 +84,13 @@ impl AppState {
                     "the server is busy checking other requests; retry in a moment",
                 )
             })?;
-        let result = off_runtime(check).await;
-        drop(permit);
-        result
+        // The permit goes with the check: if the client leaves, the check still runs to its
+        // end on the blocking pool, and still counts.
+        off_runtime(move || {
+            let _permit = permit;
+            check()
+        })
+        .await
     }
 
     /// Admission: a slot for one simulation and `answer_bytes` of the budget of answers in

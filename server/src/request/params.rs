@@ -4,6 +4,7 @@
 
 use serde::Deserialize;
 use serde::de::{self, MapAccess, Visitor};
+use std::collections::HashSet;
 use std::fmt;
 
 /// Parameter values by name, in the order given; no name twice.
@@ -19,10 +20,10 @@ impl<'de> Deserialize<'de> for Params {
                 f.write_str("an object of parameter values, e.g. {\"alpha\": 0.4}")
             }
             fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Params, A::Error> {
-                let mut params = Vec::new();
+                let (mut params, mut seen) = (Vec::new(), HashSet::new());
                 while let Some(key) = map.next_key::<String>()? {
                     let value = map.next_value::<f64>()?;
-                    push_param(&mut params, key, value)?;
+                    push_param(&mut params, &mut seen, key, value)?;
                 }
                 Ok(Params(params))
             }
@@ -37,15 +38,21 @@ impl FromIterator<(String, f64)> for Params {
     }
 }
 
-/// Adds a parameter, refusing a second value for the same name (else the last would win
-/// unseen).
+/// The error of a parameter given twice (else the last value would win unseen).
+fn twice<E: de::Error>(name: &str) -> E {
+    E::custom(format!("parameter `{name}` is given twice"))
+}
+
+/// Adds a parameter, refusing a second value for the same name; `seen` holds the names so
+/// far (a body may hold thousands of them).
 pub(crate) fn push_param<E: de::Error>(
     params: &mut Vec<(String, f64)>,
+    seen: &mut HashSet<String>,
     name: String,
     value: f64,
 ) -> Result<(), E> {
-    if params.iter().any(|(n, _)| *n == name) {
-        return Err(E::custom(format!("parameter `{name}` is given twice")));
+    if !seen.insert(name.clone()) {
+        return Err(twice(&name));
     }
     params.push((name, value));
     Ok(())

@@ -1,8 +1,9 @@
 //! [`scorecard`]: the `POST /scorecard` handler. Methods (default: every registered method)
 //! × scenes (default: the paper's six experiments) → the verdict of every integral's error
 //! series per run, and each method's measured properties (reversibility, fibration) on each
-//! scene. Everything is computed on request, in parallel on the blocking pool, and stopped
-//! when the client goes away, like `/simulate`.
+//! scene. Everything is computed on request, scene after scene (each scene's runs and its
+//! property measurements in parallel on the blocking pool: a scorecard takes no more threads
+//! than a `/simulate`), and stopped when the client goes away, like `/simulate`.
 //!
 //! A scene is checked exactly as a `/simulate` body would be (its errors are reported under
 //! `scenes[i]`); the methods and `points` once for all scenes. Each run is kept by a
@@ -137,28 +138,24 @@ async fn run(
     let _on_drop = cancel.on_drop();
     let runner = state.runner().with_slot(slot.clone());
     let ids = scene_ids(&plans);
-    // Every run and every scene's property measurements start at once.
-    let mut runs = Vec::new();
-    let mut measures = Vec::new();
-    for plan in &plans {
-        runs.push(
-            (0..plan.methods.len())
-                // A collector keeps the series the verdicts need; only they are reported.
-                .map(|i| runner.spawn(plan, i, JsonCollector::new(&[], cancel.clone())))
-                .collect::<Vec<_>>(),
-        );
+    let mut scenes = Vec::with_capacity(plans.len());
+    let mut properties = Vec::new();
+    // Scene after scene, each scene's runs and its property measurements at once: a
+    // scorecard takes at most one thread per method (and one more) from the blocking pool,
+    // like a `/simulate`, and keeps the cores as busy.
+    for (plan, id) in plans.iter().zip(ids) {
+        // A collector keeps the series the verdicts need; only they are reported.
+        let handles: Vec<_> = (0..plan.methods.len())
+            .map(|i| runner.spawn(plan, i, JsonCollector::new(&[], cancel.clone())))
+            .collect();
         let (scene, methods) = (plan.prepared.clone(), plan.methods.clone());
         let (guard, cancel, slot) = (state.run_guard(), cancel.clone(), slot.clone());
-        measures.push(tokio::task::spawn_blocking(move || {
+        let measure = tokio::task::spawn_blocking(move || {
             let (_guard, _slot) = (guard, slot);
             lower_priority();
             let measure = |m: &Method| (!cancel.is_cancelled()).then(|| scene.scene.properties(m));
             methods.iter().map(measure).collect::<Vec<_>>()
-        }));
-    }
-    let mut scenes = Vec::with_capacity(plans.len());
-    let mut properties = Vec::new();
-    for (((plan, handles), measure), id) in plans.iter().zip(runs).zip(measures).zip(ids) {
+        });
         let mut out = Vec::with_capacity(handles.len());
         for (i, handle) in handles.into_iter().enumerate() {
             let finished = handle.await.map_err(|e| AppError::internal(format!("run {i}: {e}")))?;

@@ -5,8 +5,7 @@
 //! ([`AppState::admit`]: a bounded number of simulations at once).
 
 use crate::compute::{
-    BudgetGuard, Cancel, Delivery, Finished, JSON_BYTES_PER_POINT, KEPT_BYTES_PER_POINT, Plan,
-    Slot, off_runtime,
+    BudgetGuard, Cancel, Delivery, Finished, JSON_BYTES_PER_POINT, Plan, Slot, off_runtime,
 };
 use crate::error::{AppError, ErrorBody};
 use crate::json_object::JsonObject;
@@ -19,8 +18,6 @@ use axum::body::{Body, Bytes};
 use axum::extract::State;
 use axum::http::{HeaderMap, header};
 use axum::response::{IntoResponse, Response};
-use futures_util::StreamExt;
-use std::convert::Infallible;
 
 /// Runs methods on a scene and reports the error of each first integral over time.
 #[utoipa::path(
@@ -68,15 +65,15 @@ pub async fn simulate(
         delivery
     );
     tracing::Span::current().record("scene", summary.as_str());
-    let per_point =
-        if delivery == Delivery::Stream { KEPT_BYTES_PER_POINT } else { JSON_BYTES_PER_POINT };
-    let (slot, budget) = state.admit(plan.held_bytes(per_point))?;
+    let (slot, budget) = state.admit(plan.held_bytes(JSON_BYTES_PER_POINT))?;
     match delivery {
         Delivery::Stream => Ok(stream(&state, plan, slot, budget)),
         Delivery::Json | Delivery::JsonOnly => {
-            let finished = run(&state, &plan, slot).await?;
-            // Building the columns, the verdicts and ~1 MB of JSON is CPU work: off the runtime.
-            let body = off_runtime(move || {
+            let finished = run(&state, &plan, slot.clone()).await?;
+            // Building the columns, the verdicts and ~1 MB of JSON is CPU work: off the runtime,
+            // within the slot, and with the budget going along whatever happens to the client.
+            let answer = off_runtime(move || {
+                let _slot = slot;
                 let response = respond(plan, finished)?;
                 // Sized up front (a number takes ~20 bytes): the buffer then never moves.
                 let numbers: usize = response
@@ -89,17 +86,18 @@ pub async fn simulate(
                 serde_json::to_writer(&mut body, &response).map_err(|e| {
                     AppError::internal(format!("internal error: writing JSON: {e}"))
                 })?;
-                Ok(body)
+                Ok(Answer { body, _budget: budget })
             })
             .await?;
-            Ok(([(header::CONTENT_TYPE, "application/json")], chunked(body, budget))
-                .into_response())
+            let body = Body::from(Bytes::from_owner(answer));
+            Ok(([(header::CONTENT_TYPE, "application/json")], body).into_response())
         }
     }
 }
 
 /// Whether the client asked for server-sent events: `text/event-stream` in `Accept` with a
-/// quality above 0 and not below that of `application/json` (a tie streams).
+/// quality above 0 and not below that of `application/json` (or of the ranges that cover it:
+/// `application/*`, `*/*`); a tie streams.
 fn wants_stream(headers: &HeaderMap) -> bool {
     let quality = |wanted: &str| {
         headers
@@ -119,29 +117,25 @@ fn wants_stream(headers: &HeaderMap) -> bool {
             })
             .fold(None, |best: Option<f32>, q| Some(best.map_or(q, |b| b.max(q))))
     };
+    // JSON's quality: its own, else that of `application/*`, else that of `*/*`.
+    let json = quality("application/json").or_else(|| quality("application/*"));
     match quality("text/event-stream") {
-        Some(sse) if sse > 0.0 => sse >= quality("application/json").unwrap_or(0.0),
+        Some(sse) if sse > 0.0 => sse >= json.or_else(|| quality("*/*")).unwrap_or(0.0),
         _ => false,
     }
 }
 
-/// Bytes per chunk of a JSON answer.
-const CHUNK: usize = 64 * 1024;
+/// A JSON answer and its share of the budget of answers in flight, given back when the
+/// answer's memory is: once the connection has written its last byte, or is dropped.
+struct Answer {
+    body: Vec<u8>,
+    _budget: BudgetGuard,
+}
 
-/// The answer as a body of [`CHUNK`]-sized pieces holding `budget` until the last is handed
-/// to the connection (or the connection is dropped): hyper asks for the next piece only once
-/// it has written the previous ones, so the answer counts in the budget of answers in flight
-/// for as long as a slow client takes to read it.
-fn chunked(body: Vec<u8>, budget: BudgetGuard) -> Body {
-    let body = Bytes::from(body);
-    let pieces = (0..body.len()).step_by(CHUNK).map(move |start| {
-        let piece = body.slice(start..(start + CHUNK).min(body.len()));
-        Ok::<_, Infallible>(piece)
-    });
-    Body::from_stream(futures_util::stream::iter(pieces).map(move |piece| {
-        let _held = &budget;
-        piece
-    }))
+impl AsRef<[u8]> for Answer {
+    fn as_ref(&self) -> &[u8] {
+        &self.body
+    }
 }
 
 /// Runs every method of `plan` in parallel and waits for them.

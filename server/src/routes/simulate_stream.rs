@@ -117,10 +117,8 @@ fn last_events(
     step: f64,
 ) -> (Vec<Event>, Status) {
     let mut events = finished.observer.take_points();
-    if let Ok(outcome) = &finished.outcome {
-        let t = outcome.steps as f64 * step;
-        events.push(finished.observer.final_progress(outcome.steps, t));
-    }
+    let ended = finished.outcome.as_ref().ok().map(|o| (o.steps, o.steps as f64 * step));
+    events.push(finished.observer.final_progress(ended));
     let verdicts = finished.observer.verdicts();
     let summary = finished.summary(method.clone()).unwrap_or_else(|panic| {
         let error = format!("internal error: the simulation panicked: {panic}");

@@ -29,6 +29,10 @@ impl<T> ErrorBodies<T> {
 
 /// The JSON error body for hyper's bodiless error head `head`, if it is one.
 fn with_body(head: &[u8]) -> Option<Vec<u8>> {
+    // Most writes are bodies: a look at the first bytes sets them aside.
+    if !head.starts_with(b"HTTP/1.") || head.len() > 1024 {
+        return None;
+    }
     let text = std::str::from_utf8(head).ok()?;
     let status_line = text.strip_prefix("HTTP/1.1 ").or_else(|| text.strip_prefix("HTTP/1.0 "))?;
     let (code, reason) = status_line.split_once("\r\n")?.0.split_once(' ')?;
