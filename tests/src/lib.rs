@@ -57,6 +57,18 @@ impl TestServer {
         (status, response.json().await.expect("a JSON body"))
     }
 
+    /// `POST path` with `body` as it is (any text, sent as `application/json`): the response,
+    /// unread.
+    pub async fn post_text(&self, path: &str, body: impl Into<reqwest::Body>) -> reqwest::Response {
+        reqwest::Client::new()
+            .post(self.at(path))
+            .header("content-type", "application/json")
+            .body(body)
+            .send()
+            .await
+            .expect("request succeeds")
+    }
+
     /// `POST path` with a JSON body, asking for server-sent events: the response, unread.
     pub async fn post_stream(&self, path: &str, body: &Value) -> reqwest::Response {
         reqwest::Client::new()

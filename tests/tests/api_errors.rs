@@ -51,13 +51,7 @@ async fn malformed_json_and_wrong_types_are_400() {
     }
     // `[]` would otherwise be a scorecard with every default: all methods on the paper's scenes.
     for route in ["/scorecard", "/work-precision"] {
-        let response = reqwest::Client::new()
-            .post(s.at(route))
-            .header("content-type", "application/json")
-            .body("[]")
-            .send()
-            .await
-            .unwrap();
+        let response = s.post_text(route, "[]").await;
         assert_eq!(response.status(), 400, "{route}");
         let error: Value = response.json().await.unwrap();
         assert!(error["error"].as_str().unwrap().contains("must be a JSON object"), "{error}");
@@ -209,13 +203,7 @@ async fn extreme_values_are_echoed_in_exponent_form() {
     for (body, path, words) in cases {
         rejects(&s, body, 422, Some(path), &[words]).await;
     }
-    let response = reqwest::Client::new()
-        .post(s.at("/simulate"))
-        .header("content-type", "application/json")
-        .body(r#"{"system": "knife_edge", "t_end": -1e300}"#)
-        .send()
-        .await
-        .expect("request succeeds");
+    let response = s.post_text("/simulate", r#"{"system": "knife_edge", "t_end": -1e300}"#).await;
     let error: Value = response.json().await.expect("a JSON error");
     assert!(error["error"].as_str().unwrap().len() < 100, "{error}");
 }
@@ -294,13 +282,7 @@ async fn the_json_step_limit_points_to_the_stream_where_there_is_one() {
     let s = TestServer::start().await;
     // 10⁸ steps: over the JSON limit (2·10⁷), within the stream's (2·10⁸).
     let body = json!({"system": "knife_edge", "step": 1e-6, "t_end": 100}).to_string();
-    let response = reqwest::Client::new()
-        .post(s.at("/simulate"))
-        .header("content-type", "application/json")
-        .body(body)
-        .send()
-        .await
-        .unwrap();
+    let response = s.post_text("/simulate", body).await;
     assert_eq!(response.status(), 422);
     let error: Value = response.json().await.unwrap();
     assert_eq!(error["path"], "t_end");
@@ -359,13 +341,7 @@ async fn non_finite_numbers_are_rejected_with_their_path() {
 async fn oversized_bodies_are_413_json() {
     let s = TestServer::start().await;
     let body = format!(r#"{{"system": "knife_edge", "q": [{}]}}"#, vec!["0"; 100_000].join(","));
-    let response = reqwest::Client::new()
-        .post(s.at("/simulate"))
-        .header("content-type", "application/json")
-        .body(body)
-        .send()
-        .await
-        .unwrap();
+    let response = s.post_text("/simulate", body).await;
     assert_eq!(response.status(), 413);
     let error: Value = response.json().await.unwrap();
     assert!(

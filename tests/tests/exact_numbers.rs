@@ -98,13 +98,7 @@ async fn the_scene_as_printed_is_read_back_exactly_over_http() {
 async fn a_parameter_given_twice_is_refused_in_params_too() {
     let s = TestServer::start().await;
     let body = r#"{"system": "cvt_pendulum", "params": {"epsilon": 0.1, "epsilon": 0.5}}"#;
-    let response = reqwest::Client::new()
-        .post(s.at("/simulate"))
-        .header("content-type", "application/json")
-        .body(body)
-        .send()
-        .await
-        .expect("request succeeds");
+    let response = s.post_text("/simulate", body).await;
     assert_eq!(response.status(), 400);
     let error: Value = response.json().await.expect("a JSON error");
     assert_eq!(error["path"], "params", "{error}");
