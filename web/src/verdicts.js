@@ -37,6 +37,21 @@ export function verdictTitle(verdict, context = '') {
   return `${context}${verdict.kind}: max ${sci(verdict.max)}, early max ${sci(verdict.early)}, late mean ${sci(verdict.late)}, late/early ${ratio}`;
 }
 
+/**
+ * A run's verdict per integral, as the runs table shows them: `pending` while it runs, `none`
+ * where a series got no verdict (no data, or the run failed first), with the numbers behind
+ * each verdict on hover.
+ */
+export function runVerdicts(run, integrals) {
+  return integrals.map((integral) => {
+    const v = run.verdicts?.[integral] ?? null;
+    const kind = run.status === 'running' ? 'pending' : v?.kind ?? 'none';
+    const name = INTEGRAL_NAME[integral] ?? integral;
+    const title = kind === 'pending' ? `${run.label}, ${name}: running` : verdictTitle(v, `${run.label}, ${name}: `);
+    return { integral, short: INTEGRAL_SHORT[integral] ?? integral, kind, label: VERDICTS.find((x) => x.kind === kind)?.label ?? (kind === 'pending' ? '…' : '–'), title };
+  });
+}
+
 /** The integrals of a scorecard scene, in the order the grid shows them. */
 export function sceneIntegrals(scene) {
   return scene.scene.integrals ?? [];

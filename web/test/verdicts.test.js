@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { propertyMark, systemsOf, verdictTitle } from '../src/verdicts.js';
+import { propertyMark, runVerdicts, systemsOf, verdictTitle } from '../src/verdicts.js';
 
 const methods = [{ id: 'dd', label: 'DD' }, { id: 'leapfrog', label: 'LF' }];
 const prop = (method, system, scene, reversible, fibration) => ({
@@ -50,4 +50,20 @@ test('a verdict title gives the numbers behind it; an infinite ratio is written 
   assert.equal(t, 'DLA^0.4: drift: max 3.68e+0, early max 7.55e-2, late mean 3.29e+0, late/early 43.56');
   assert.match(verdictTitle({ kind: 'drift', max: 1, early: 0, late: 1, ratio: null }), /late\/early ∞/);
   assert.match(verdictTitle(null), /no verdict/);
+});
+
+test('a run shows a verdict per integral: pending while it runs, none without data', () => {
+  const integrals = ['energy', 'latitude'];
+  const running = { label: 'LF', status: 'running', verdicts: null };
+  assert.deepEqual(runVerdicts(running, integrals).map((v) => [v.short, v.kind, v.label]), [['H', 'pending', '…'], ['ℓ', 'pending', '…']]);
+  const done = {
+    label: 'DD',
+    status: 'ok',
+    verdicts: { energy: { kind: 'exact', max: 1e-15, early: 1e-15, late: 1e-15, ratio: 1 } },
+  };
+  const [energy, latitude] = runVerdicts(done, integrals);
+  assert.deepEqual([energy.short, energy.kind, energy.label], ['H', 'exact', 'exact']);
+  assert.match(energy.title, /^DD, energy: exact: max 1\.00e-15/);
+  assert.deepEqual([latitude.kind, latitude.label], ['none', '–']);
+  assert.match(latitude.title, /no verdict/);
 });

@@ -54,6 +54,29 @@ pub(crate) async fn knife_edge(client: &Client, driver: &Driver, base: &str) -> 
     }
     assert_eq!(plot["legend"], json!(labels), "the legend lists the five methods");
     assert_eq!(plot["runs"], json!(["ok", "ok", "ok", "ok", "ok"]), "every run succeeds: {plot}");
+    // The runs table says each run's verdict beside it: on the knife edge, DD keeps the energy
+    // to round-off and DLA^0.4, the one method that is not reversible, lets it drift.
+    let verdicts = js(
+        client,
+        "return [...document.querySelectorAll('#runs tbody tr.run')].map((tr) => \
+         [...tr.querySelectorAll('.verdict-chip')].map((c) => [c.dataset.integral, c.dataset.kind, c.title]));",
+    )
+    .await?;
+    let rows = verdicts.as_array().ok_or("no runs table rows")?;
+    assert_eq!(rows.len(), 5, "one row per run: {verdicts}");
+    for (label, row) in labels.iter().zip(rows) {
+        let chips = row.as_array().map(Vec::as_slice).unwrap_or_default();
+        assert_eq!(chips.len(), 1, "{label}: one verdict, the energy's: {row}");
+        assert_eq!(chips[0][0], "energy", "{label}: {row}");
+        let kind = chips[0][1].as_str().unwrap_or_default();
+        assert!(matches!(kind, "exact" | "bounded" | "drift"), "{label}: {kind}: {row}");
+        assert!(
+            chips[0][2].as_str().unwrap_or_default().contains("max"),
+            "{label}: numbers on hover"
+        );
+    }
+    assert_eq!(rows[1][0][1], "drift", "DLA^0.4 drifts: {verdicts}");
+    assert_eq!(rows[4][0][1], "exact", "DD keeps the knife edge's energy to round-off: {verdicts}");
     let url = js(client, "return location.search;").await?;
     let url = url.as_str().unwrap_or_default();
     assert!(
