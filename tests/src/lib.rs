@@ -45,6 +45,12 @@ impl TestServer {
         format!("{}{path}", self.url)
     }
 
+    /// `GET /health`, read as JSON.
+    pub async fn health(&self) -> Value {
+        let response = reqwest::get(self.at("/health")).await.expect("request succeeds");
+        response.json().await.expect("a JSON body")
+    }
+
     /// `POST path` with a JSON body: the status and the JSON answer.
     pub async fn post_json(&self, path: &str, body: &Value) -> (u16, Value) {
         let response = reqwest::Client::new()

@@ -9,10 +9,6 @@ use nhlab_tests::TestServer;
 use serde_json::{Value, json};
 use std::time::Duration;
 
-async fn health(server: &TestServer) -> Value {
-    reqwest::get(server.at("/health")).await.unwrap().json().await.unwrap()
-}
-
 /// The least-squares slope of log(error) against log(h).
 fn slope(points: &[(f64, f64)]) -> f64 {
     let n = points.len() as f64;
@@ -205,7 +201,7 @@ async fn a_leaving_client_stops_a_long_reference_and_frees_its_slot() {
     // Wait until it is admitted and computing (its check may take a while on a busy machine).
     let start = std::time::Instant::now();
     loop {
-        let h = health(&server).await;
+        let h = server.health().await;
         if (h["simulations"].as_u64(), h["active_runs"].as_u64()) == (Some(1), Some(1)) {
             break;
         }
@@ -218,7 +214,7 @@ async fn a_leaving_client_stops_a_long_reference_and_frees_its_slot() {
     request.abort(); // the client goes away: its connection closes
     let took = server.wait_idle(Duration::from_secs(1)).await;
     eprintln!("the reference stopped and its slot was free {took:?} after the client left");
-    let h = health(&server).await;
+    let h = server.health().await;
     assert_eq!(h["simulations"], 0, "{h}");
     // A cancelled reference is not the scene's: nothing is cached.
     assert_eq!(h["cache"]["reference"], json!({"hits": 0, "misses": 1, "entries": 0}), "{h}");
@@ -244,7 +240,7 @@ async fn a_second_request_reuses_the_reference_and_gives_the_same_numbers() {
         v
     };
     assert_eq!(strip(&first), strip(&second), "the same numbers from the cached reference");
-    let h = health(&server).await;
+    let h = server.health().await;
     assert_eq!(h["cache"]["reference"], json!({"hits": 1, "misses": 1, "entries": 1}), "{h}");
     // Another t_end is another reference.
     let mut other = body.clone();
@@ -259,12 +255,12 @@ async fn the_latitude_axis_is_computed_once_per_scene_across_endpoints() {
     let scene = json!({"system": "cvt_pendulum", "preset": "oscillating", "t_end": 30,
                        "integrals": ["latitude"], "methods": ["leapfrog"]});
     let latitude = |h: &Value| h["cache"]["latitude"].clone();
-    assert_eq!(latitude(&health(&server).await), json!({"hits": 0, "misses": 0, "entries": 0}));
+    assert_eq!(latitude(&server.health().await), json!({"hits": 0, "misses": 0, "entries": 0}));
     let (status, a) = server.post_json("/simulate", &scene).await;
     assert_eq!(status, 200, "{a}");
-    assert_eq!(latitude(&health(&server).await), json!({"hits": 0, "misses": 1, "entries": 1}));
+    assert_eq!(latitude(&server.health().await), json!({"hits": 0, "misses": 1, "entries": 1}));
     let (_, b) = server.post_json("/simulate", &scene).await;
-    assert_eq!(latitude(&health(&server).await), json!({"hits": 1, "misses": 1, "entries": 1}));
+    assert_eq!(latitude(&server.health().await), json!({"hits": 1, "misses": 1, "entries": 1}));
     assert_eq!(a["runs"][0]["series"], b["runs"][0]["series"], "the same latitude series");
     // Another t_end or step: the same axis. Another start: another axis.
     let mut wp = scene.clone();
@@ -279,7 +275,7 @@ async fn the_latitude_axis_is_computed_once_per_scene_across_endpoints() {
     ]});
     let (status, c) = server.post_json("/scorecard", &card).await;
     assert_eq!(status, 200, "{c}");
-    assert_eq!(latitude(&health(&server).await), json!({"hits": 3, "misses": 2, "entries": 2}));
+    assert_eq!(latitude(&server.health().await), json!({"hits": 3, "misses": 2, "entries": 2}));
 }
 
 #[tokio::test]

@@ -8,10 +8,6 @@ use serde_json::{Value, json};
 use std::time::{Duration, Instant};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 
-async fn health(server: &TestServer) -> Value {
-    reqwest::get(server.at("/health")).await.unwrap().json().await.unwrap()
-}
-
 #[tokio::test]
 async fn amplified_answers_are_refused_with_their_estimate() {
     let s = TestServer::start().await;
@@ -59,7 +55,7 @@ async fn answers_in_flight_share_one_budget_until_written() {
     // Its runs end and its slot is free, but its answer is still held for it.
     let start = Instant::now();
     loop {
-        let h = health(&s).await;
+        let h = s.health().await;
         if h["active_runs"] == 0 && h["simulations"] == 0 && h["answer_bytes"].as_u64() > Some(0) {
             break;
         }
@@ -75,7 +71,7 @@ async fn answers_in_flight_share_one_budget_until_written() {
     stalled.read_to_end(&mut answer).await.unwrap();
     assert!(answer.len() > 1_000_000, "the whole answer arrives");
     let start = Instant::now();
-    while health(&s).await["answer_bytes"] != 0 {
+    while s.health().await["answer_bytes"] != 0 {
         assert!(start.elapsed() < Duration::from_secs(5), "the budget is given back");
         tokio::time::sleep(Duration::from_millis(10)).await;
     }

@@ -71,10 +71,6 @@ fn parse(text: &str) -> (u16, Value) {
     (status, serde_json::from_str(body).unwrap_or(Value::Null))
 }
 
-async fn health(server: &TestServer) -> Value {
-    reqwest::get(server.at("/health")).await.unwrap().json().await.unwrap()
-}
-
 #[tokio::test]
 async fn a_request_head_must_arrive_within_the_header_timeout() {
     let server = TestServer::with_options(Config::default(), options(0.5, 30.0, 64)).await;
@@ -106,7 +102,7 @@ async fn a_request_head_must_arrive_within_the_header_timeout() {
     let mut trickle = trickling.await.unwrap();
     let (text, _) = until_closed(&mut trickle, Duration::from_secs(5)).await;
     assert!(!text.contains("200 OK"), "trickle: {text}");
-    assert_eq!(health(&server).await["status"], "ok");
+    assert_eq!(server.health().await["status"], "ok");
 }
 
 #[tokio::test]
@@ -208,14 +204,14 @@ async fn a_stream_whose_client_stops_reading_is_closed_and_frees_its_slot() {
     write_all(&stream, request.as_bytes()).await.unwrap();
 
     let start = Instant::now();
-    while health(&server).await["simulations"] != 1 {
+    while server.health().await["simulations"] != 1 {
         assert!(start.elapsed() < Duration::from_secs(5), "the stream did not start");
         tokio::time::sleep(Duration::from_millis(10)).await;
     }
     let started = Instant::now();
     let limit = Duration::from_secs_f64(write_timeout + 10.0);
     loop {
-        let h = health(&server).await;
+        let h = server.health().await;
         if h["simulations"] == 0 && h["active_runs"] == 0 {
             break;
         }
@@ -252,7 +248,7 @@ async fn beyond_the_connection_cap_new_clients_wait_their_turn() {
         let (text, _) = until_closed(&mut stream, Duration::from_secs(10)).await;
         assert!(text.is_empty(), "{text}");
     }
-    assert_eq!(health(&server).await["status"], "ok");
+    assert_eq!(server.health().await["status"], "ok");
 }
 
 #[tokio::test]

@@ -29,15 +29,11 @@ async fn open_stream(server: &TestServer) -> SseReader {
     events
 }
 
-async fn health(server: &TestServer) -> Value {
-    reqwest::get(server.at("/health")).await.unwrap().json().await.unwrap()
-}
-
 /// Polls `/health` until `simulations` is `n`; how long it took (fails after `limit`).
 async fn until_simulations(server: &TestServer, n: u64, limit: Duration) -> Duration {
     let start = Instant::now();
     loop {
-        if health(server).await["simulations"] == n {
+        if server.health().await["simulations"] == n {
             return start.elapsed();
         }
         assert!(start.elapsed() < limit, "still not {n} simulations after {limit:?}");
@@ -69,7 +65,7 @@ async fn beyond_the_slots_requests_get_503_with_retry_after() {
     let server = TestServer::with_config(with_slots(2)).await;
     let first = open_stream(&server).await;
     let _second = open_stream(&server).await;
-    let h = health(&server).await;
+    let h = server.health().await;
     assert_eq!((h["simulations"].as_u64(), h["max_simulations"].as_u64()), (Some(2), Some(2)));
 
     let small = json!({"system": "knife_edge", "preset": "paper", "points": 10});
@@ -108,7 +104,7 @@ async fn beyond_the_slots_requests_get_503_with_retry_after() {
     let (status, retry, body) = busy_answer(&server, "application/json", &small).await;
     assert_eq!((status, retry), (200, None), "{body}");
     assert_eq!(body["runs"].as_array().unwrap().len(), 5);
-    assert_eq!(health(&server).await["simulations"], 1);
+    assert_eq!(server.health().await["simulations"], 1);
 }
 
 #[tokio::test]
@@ -136,7 +132,7 @@ async fn a_json_client_leaving_frees_its_slot_within_100_ms() {
     let request = tokio::spawn(send);
     tokio::time::sleep(Duration::from_millis(300)).await;
     assert!(!request.is_finished(), "the run should take longer than 300 ms");
-    assert_eq!(health(&server).await["simulations"], 1);
+    assert_eq!(server.health().await["simulations"], 1);
     request.abort(); // the client goes away: its connection closes
     let freed = until_simulations(&server, 0, Duration::from_millis(100)).await;
     eprintln!("slot free {freed:?} after the JSON client left");
@@ -176,7 +172,7 @@ async fn a_panicking_simulation_fails_its_own_request_only() {
     }
     assert_eq!(events.last().unwrap().data["failed"], 5);
     // Nothing leaked: no slot, no run.
-    let h = health(&server).await;
+    let h = server.health().await;
     assert_eq!((h["simulations"].as_u64(), h["active_runs"].as_u64()), (Some(0), Some(0)));
 }
 

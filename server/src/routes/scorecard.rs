@@ -53,7 +53,7 @@ pub async fn scorecard(
     State(state): State<AppState>,
     JsonObject(req): JsonObject<ScorecardRequest>,
 ) -> Result<Json<ScorecardResponse>, AppError> {
-    let plans = {
+    let (plans, held) = {
         let state = state.clone();
         state.clone().check(move || plans(&req, &state)).await?
     };
@@ -63,7 +63,6 @@ pub async fn scorecard(
     );
     // One simulation slot for the whole scorecard, like one /simulate request; its runs keep
     // their series for the verdicts until they end.
-    let held = plans.iter().map(|p| p.held_bytes(KEPT_BYTES_PER_POINT)).sum();
     let (slot, _budget) = state.admit(held)?;
     Ok(Json(run(&state, plans, slot).await?))
 }
@@ -79,7 +78,9 @@ fn all_methods() -> Vec<MethodRequest> {
         .collect()
 }
 
-fn plans(req: &ScorecardRequest, state: &AppState) -> Result<Vec<Plan>, AppError> {
+/// The checked scenes, and the bytes their runs will hold (their series, kept for the
+/// verdicts).
+fn plans(req: &ScorecardRequest, state: &AppState) -> Result<(Vec<Plan>, u64), AppError> {
     let scenes = match &req.scenes {
         None => PAPER_SCENES
             .iter()
@@ -125,7 +126,7 @@ fn plans(req: &ScorecardRequest, state: &AppState) -> Result<Vec<Plan>, AppError
         .collect::<Result<Vec<_>, _>>()?;
     let held = plans.iter().map(|p| p.held_bytes(KEPT_BYTES_PER_POINT)).sum();
     check_answer_bytes(held, &state.config, " (its runs' series, kept for the verdicts)")?;
-    Ok(plans)
+    Ok((plans, held))
 }
 
 async fn run(
