@@ -202,6 +202,13 @@ impl Graph {
             (Some(-1.0), _) => self.neg(b),
             (_, Some(-1.0)) => self.neg(a),
             _ if a == b => self.intern(Node::PowI(a, 2)),
+            // A constant times a constant times x: one product (within one rounding).
+            (Some(x), _) | (_, Some(x)) if self.scaled(if self.is(a, x) { b } else { a }).is_some() => {
+                let other = if self.is(a, x) { b } else { a };
+                let (y, c) = self.scaled(other).unwrap_or((1.0, other));
+                let k = self.num(x * y);
+                self.mul(k, c)
+            }
             _ => match (self.node(a), self.node(b)) {
                 (Node::Neg(c), Node::Neg(d)) => self.mul(c, d),
                 (Node::Neg(c), _) => {
@@ -217,10 +224,28 @@ impl Graph {
         }
     }
 
+    /// `(k, x)` where `id` is `k·x` with a constant k.
+    fn scaled(&self, id: Id) -> Option<(f64, Id)> {
+        match self.node(id) {
+            Node::Mul(p, q) => match (self.constant(p), self.constant(q)) {
+                (Some(k), None) => Some((k, q)),
+                (None, Some(k)) => Some((k, p)),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
     /// `a / b`.
     pub fn div(&mut self, a: Id, b: Id) -> Id {
         match (self.constant(a), self.constant(b)) {
             (Some(x), Some(y)) => self.num(x / y),
+            // k·x / c: one product.
+            (None, Some(y)) if self.scaled(a).is_some() => {
+                let (k, x) = self.scaled(a).unwrap_or((1.0, a));
+                let k = self.num(k / y);
+                self.mul(k, x)
+            }
             (Some(0.0), _) => self.num(0.0),
             (_, Some(1.0)) => a,
             (_, Some(-1.0)) => self.neg(a),

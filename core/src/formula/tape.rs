@@ -16,6 +16,14 @@ enum Op {
     Sub(u32, u32),
     Mul(u32, u32),
     Div(u32, u32),
+    /// `a + k`, `a − k`, `k − a`, `a·k`, `a / k`, `k / a` with a constant k: a constant
+    /// operand costs no instruction of its own.
+    AddK(u32, f64),
+    SubK(u32, f64),
+    KSub(f64, u32),
+    MulK(u32, f64),
+    DivK(u32, f64),
+    KDiv(f64, u32),
     Neg(u32),
     Square(u32),
     PowI(u32, i32),
@@ -31,11 +39,18 @@ struct Instr {
     dst: u32,
 }
 
+/// Where an output is read: a slot, or a constant known at compilation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Out {
+    Slot(u32),
+    Const(f64),
+}
+
 /// Compiled outputs of a graph; see the module's doc.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tape {
     code: Vec<Instr>,
-    outputs: Vec<u32>,
+    outputs: Vec<Out>,
     slots: usize,
     vars: usize,
 }
@@ -80,15 +95,32 @@ impl Tape {
             }
         }
         let s = |id: Id| slot[&id];
+        let k = |id: Id| g.constant(id);
         let mut code = Vec::with_capacity(order.len());
         for &n in &order {
             let op = match g.node(n) {
                 Node::Const(bits) => Op::Const(f64::from_bits(bits)),
                 Node::Var(i) => Op::Var(i),
-                Node::Add(a, b) => Op::Add(s(a), s(b)),
-                Node::Sub(a, b) => Op::Sub(s(a), s(b)),
-                Node::Mul(a, b) => Op::Mul(s(a), s(b)),
-                Node::Div(a, b) => Op::Div(s(a), s(b)),
+                Node::Add(a, b) => match (k(a), k(b)) {
+                    (Some(x), _) => Op::AddK(s(b), x),
+                    (_, Some(y)) => Op::AddK(s(a), y),
+                    _ => Op::Add(s(a), s(b)),
+                },
+                Node::Sub(a, b) => match (k(a), k(b)) {
+                    (Some(x), _) => Op::KSub(x, s(b)),
+                    (_, Some(y)) => Op::SubK(s(a), y),
+                    _ => Op::Sub(s(a), s(b)),
+                },
+                Node::Mul(a, b) => match (k(a), k(b)) {
+                    (Some(x), _) => Op::MulK(s(b), x),
+                    (_, Some(y)) => Op::MulK(s(a), y),
+                    _ => Op::Mul(s(a), s(b)),
+                },
+                Node::Div(a, b) => match (k(a), k(b)) {
+                    (Some(x), _) => Op::KDiv(x, s(b)),
+                    (_, Some(y)) => Op::DivK(s(a), y),
+                    _ => Op::Div(s(a), s(b)),
+                },
                 Node::Neg(a) => Op::Neg(s(a)),
                 Node::PowI(a, 2) => Op::Square(s(a)),
                 Node::PowI(a, k) => Op::PowI(s(a), k),
@@ -113,12 +145,23 @@ impl Tape {
                 fixed.push(ins);
             }
         }
-        Self {
-            code: fixed,
-            outputs: outputs.iter().map(|&o| s(o)).collect(),
-            slots: order.len(),
-            vars,
-        }
+        // Constants read by no instruction (taken as operands above, or outputs) need none.
+        let read: Vec<bool> =
+            fixed.iter().map(|i| fixed.iter().any(|j| reads(j.op, i.dst))).collect();
+        let fixed: Vec<Instr> = fixed
+            .into_iter()
+            .zip(read)
+            .filter(|(i, read)| *read || !matches!(i.op, Op::Const(_)))
+            .map(|(i, _)| i)
+            .collect();
+        let outputs = outputs
+            .iter()
+            .map(|&o| match k(o) {
+                Some(c) => Out::Const(c),
+                None => Out::Slot(s(o)),
+            })
+            .collect();
+        Self { code: schedule(fixed), outputs, slots: order.len(), vars }
     }
 
     /// Number of instructions.
@@ -146,54 +189,126 @@ impl Tape {
     }
 
     /// Evaluates the outputs at `vars` (at least the tape's number of variables) into `out`
-    /// (one per output).
+    /// (one per output), with this thread's slots.
     #[inline]
     pub fn eval(&self, vars: &[f64], out: &mut [f64]) {
-        debug_assert!(vars.len() >= self.vars && out.len() == self.outputs.len());
-        SLOTS.with_borrow_mut(|slots| {
-            if slots.len() < self.slots {
-                slots.resize(self.slots, 0.0);
-            }
-            self.run(vars, slots);
-            for (o, &k) in out.iter_mut().zip(&self.outputs) {
-                *o = slots[k as usize];
-            }
-        });
+        SLOTS.with_borrow_mut(|slots| self.eval_with(vars, slots, out));
+    }
+
+    /// [`eval`](Self::eval) with the caller's slots (grown to fit if needed).
+    #[inline]
+    pub fn eval_with(&self, vars: &[f64], slots: &mut Vec<f64>, out: &mut [f64]) {
+        if slots.len() < self.slots {
+            slots.resize(self.slots, 0.0);
+        }
+        self.run(vars, slots);
+        for (o, k) in out.iter_mut().zip(&self.outputs) {
+            *o = match *k {
+                Out::Slot(k) => slots[k as usize],
+                Out::Const(c) => c,
+            };
+        }
     }
 
     #[inline]
     fn run(&self, vars: &[f64], x: &mut [f64]) {
+        assert!(vars.len() >= self.vars && x.len() >= self.slots, "a tape's inputs and slots");
+        macro_rules! at {
+            ($k:expr) => {
+                // SAFETY: `compile` numbers every operand and destination below `self.slots`
+                // (they are positions in `order`), and `x` has at least that many (asserted
+                // above); likewise every variable index is below `self.vars`.
+                unsafe { *x.get_unchecked($k as usize) }
+            };
+        }
         for ins in &self.code {
             let v = match ins.op {
                 Op::Const(c) => c,
-                Op::Var(i) => vars[i as usize],
-                Op::Add(a, b) => x[a as usize] + x[b as usize],
-                Op::Sub(a, b) => x[a as usize] - x[b as usize],
-                Op::Mul(a, b) => x[a as usize] * x[b as usize],
-                Op::Div(a, b) => x[a as usize] / x[b as usize],
-                Op::Neg(a) => -x[a as usize],
-                Op::Square(a) => x[a as usize] * x[a as usize],
-                Op::PowI(a, k) => x[a as usize].powi(k),
-                Op::Pow(a, b) => x[a as usize].powf(x[b as usize]),
-                Op::Call(f, a) => f.apply(x[a as usize]),
+                // SAFETY: as for `at!`.
+                Op::Var(i) => unsafe { *vars.get_unchecked(i as usize) },
+                Op::Add(a, b) => at!(a) + at!(b),
+                Op::Sub(a, b) => at!(a) - at!(b),
+                Op::Mul(a, b) => at!(a) * at!(b),
+                Op::Div(a, b) => at!(a) / at!(b),
+                Op::AddK(a, k) => at!(a) + k,
+                Op::SubK(a, k) => at!(a) - k,
+                Op::KSub(k, a) => k - at!(a),
+                Op::MulK(a, k) => at!(a) * k,
+                Op::DivK(a, k) => at!(a) / k,
+                Op::KDiv(k, a) => k / at!(a),
+                Op::Neg(a) => -at!(a),
+                Op::Square(a) => at!(a) * at!(a),
+                Op::PowI(a, k) => at!(a).powi(k),
+                Op::Pow(a, b) => at!(a).powf(at!(b)),
+                Op::Call(f, a) => f.apply(at!(a)),
                 Op::SinCos(a, cos) => {
-                    let (s, c) = x[a as usize].sin_cos();
-                    x[cos as usize] = c;
+                    let (s, c) = at!(a).sin_cos();
+                    // SAFETY: as for `at!`.
+                    unsafe { *x.get_unchecked_mut(cos as usize) = c };
                     s
                 }
             };
-            x[ins.dst as usize] = v;
+            // SAFETY: as for `at!`.
+            unsafe { *x.get_unchecked_mut(ins.dst as usize) = v };
+        }
+    }
+}
+
+/// The instructions reordered, dependencies kept, so that instructions of one kind follow
+/// each other where they can: evaluation dispatches on each instruction's kind, and a
+/// dispatch to the same place as the last one is one the processor predicts.
+fn schedule(code: Vec<Instr>) -> Vec<Instr> {
+    let n = code.len();
+    // Instruction i must follow the writers of what it reads.
+    let writer: HashMap<u32, usize> = code
+        .iter()
+        .enumerate()
+        .flat_map(|(i, ins)| {
+            let second = if let Op::SinCos(_, cos) = ins.op { Some((cos, i)) } else { None };
+            std::iter::once((ins.dst, i)).chain(second)
+        })
+        .collect();
+    let deps: Vec<Vec<usize>> = code
+        .iter()
+        .map(|ins| operands(ins.op).iter().flatten().filter_map(|k| writer.get(k).copied()).collect())
+        .collect();
+    let mut done = vec![false; n];
+    let mut out: Vec<Instr> = Vec::with_capacity(n);
+    while out.len() < n {
+        let ready = |i: usize| !done[i] && deps[i].iter().all(|&d| done[d]);
+        let last = out.last().map(|ins| std::mem::discriminant(&ins.op));
+        let next = (0..n)
+            .find(|&i| ready(i) && Some(std::mem::discriminant(&code[i].op)) == last)
+            .or_else(|| (0..n).find(|&i| ready(i)))
+            .expect("a straight-line program always has a ready instruction");
+        done[next] = true;
+        out.push(code[next]);
+    }
+    out
+}
+
+/// The slots `op` reads.
+fn operands(op: Op) -> [Option<u32>; 2] {
+    match op {
+        Op::Const(_) | Op::Var(_) => [None, None],
+        Op::Neg(a)
+        | Op::Square(a)
+        | Op::PowI(a, _)
+        | Op::Call(_, a)
+        | Op::SinCos(a, _)
+        | Op::AddK(a, _)
+        | Op::SubK(a, _)
+        | Op::KSub(_, a)
+        | Op::MulK(a, _)
+        | Op::DivK(a, _)
+        | Op::KDiv(_, a) => [Some(a), None],
+        Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) | Op::Pow(a, b) => {
+            [Some(a), Some(b)]
         }
     }
 }
 
 /// Whether `op` reads slot `k`.
 fn reads(op: Op, k: u32) -> bool {
-    match op {
-        Op::Const(_) | Op::Var(_) => false,
-        Op::Neg(a) | Op::Square(a) | Op::PowI(a, _) | Op::Call(_, a) | Op::SinCos(a, _) => a == k,
-        Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) | Op::Pow(a, b) => {
-            a == k || b == k
-        }
-    }
+    operands(op).contains(&Some(k))
 }

@@ -15,11 +15,14 @@ struct Last {
     id: u64,
     zeta: u64,
     values: [f64; MAX_OUTPUTS],
+    /// The tape's slots: with the values, so that one thread-local access serves both.
+    slots: Vec<f64>,
 }
 
 thread_local! {
-    static LAST: RefCell<Last> =
-        const { RefCell::new(Last { id: 0, zeta: 0, values: [0.0; MAX_OUTPUTS] }) };
+    static LAST: RefCell<Last> = const {
+        RefCell::new(Last { id: 0, zeta: 0, values: [0.0; MAX_OUTPUTS], slots: Vec::new() })
+    };
 }
 
 /// `f` of the driver tape's outputs at ζ.
@@ -28,7 +31,8 @@ pub(crate) fn with_driver_terms<T>(c: &Compiled, zeta: f64, f: impl FnOnce(&[f64
     LAST.with_borrow_mut(|last| {
         let k = c.driver.outputs();
         if last.id != c.id || last.zeta != zeta.to_bits() {
-            c.driver.eval(&[zeta], &mut last.values[..k]);
+            let Last { values, slots, .. } = last;
+            c.driver.eval_with(&[zeta], slots, &mut values[..k]);
             (last.id, last.zeta) = (c.id, zeta.to_bits());
         }
         f(&last.values[..k])
