@@ -88,6 +88,7 @@ pub(crate) async fn custom_system(
     let plot = js(client, PLOT_REPORT).await?;
     assert_eq!(plot["runs"], json!(["ok", "ok", "ok", "ok", "ok"]), "{plot}");
     console_clean(driver, client, "custom system from its link").await?;
+    start_from(client).await?;
     println!("custom system: edited, run, error at its input, link reproduces it ({shot})");
     Ok(())
 }
@@ -124,6 +125,28 @@ async fn bad_formula(client: &Client) -> Result<(), String> {
     Ok(())
 }
 
+/// "Start from" refills the editor and the initial state from another built-in: the rolling
+/// disk's three passengers and two constraints (no latitude offered), the pendulum CVT's
+/// latitude (offered, and checked as the built-in has it).
+async fn start_from(client: &Client) -> Result<(), String> {
+    let select = client.find(Locator::Id("custom-start")).await.map_err(|e| e.to_string())?;
+    select.select_by_value("rolling_disk").await.map_err(|e| e.to_string())?;
+    let editor = js(client, EDITOR_REPORT).await?;
+    let rows = editor["constraints"].as_array().cloned().unwrap_or_default();
+    assert_eq!(rows.len(), 2, "two constraints: {editor}");
+    assert!(rows.iter().all(|r| r.as_array().map(Vec::len) == Some(3)), "{editor}");
+    assert_eq!(editor["q"].as_str().unwrap_or_default().split(',').count(), 4, "{editor}");
+    assert!(!editor["integrals"].to_string().contains("latitude"), "{editor}");
+    let url = js(client, "return location.search;").await?;
+    assert!(url.as_str().unwrap_or_default().contains("passenger=x1,x2,phi"), "{url}");
+
+    let select = client.find(Locator::Id("custom-start")).await.map_err(|e| e.to_string())?;
+    select.select_by_value("cvt_pendulum").await.map_err(|e| e.to_string())?;
+    let editor = js(client, EDITOR_REPORT).await?;
+    assert_eq!(editor["checked"], json!(true), "the latitude offered and checked: {editor}");
+    Ok(())
+}
+
 /// What the editor shows.
 const EDITOR_REPORT: &str = r#"
 return {
@@ -135,5 +158,7 @@ return {
   constraints: [...document.querySelectorAll('#custom-constraints .custom-row')]
     .map((r) => [...r.querySelectorAll('.custom-cell input')].map((i) => i.value)),
   q: document.getElementById('q').value,
+  integrals: [...document.querySelectorAll('#integrals input')].map((b) => b.value),
+  checked: document.querySelector('#integrals input[value="latitude"]')?.checked ?? null,
 };
 "#;
