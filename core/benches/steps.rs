@@ -2,7 +2,8 @@
 //! `cargo bench -p nhlab-core`; numbers go to `docs/performance.md`.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use nhlab_core::{Method, Observer, RunConfig, Scene, SceneRequest, State, System, Vector};
+use nhlab_core::BuiltIn;
+use nhlab_core::{Method, Observer, RunConfig, Scene, SceneRequest, State, Vector};
 use std::hint::black_box;
 
 const STEPS: u64 = 10_000;
@@ -21,7 +22,7 @@ fn methods() -> Vec<(String, Method)> {
     out
 }
 
-fn bench_system<S: System<N, R>, const N: usize, const R: usize>(c: &mut Criterion) {
+fn bench_system<S: BuiltIn<N, R>, const N: usize, const R: usize>(c: &mut Criterion) {
     let info = S::info();
     let p = &info.presets[0];
     let sys = S::new(&info.preset_params(p));

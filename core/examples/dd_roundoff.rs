@@ -16,6 +16,7 @@
 //! 2π): every period rounds the same numbers the same way, so in doubles the rounding errors
 //! add up linearly instead of like √N. h = 0.31 is not commensurate with the period.
 
+use nhlab_core::BuiltIn;
 use nhlab_core::methods::{Dd, Memory};
 use nhlab_core::systems::KnifeEdge;
 use nhlab_core::{Integrator, Scene, SceneRequest, State, System, Vector};

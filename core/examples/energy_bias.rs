@@ -9,9 +9,10 @@
 //! biases of DD's `(σ, ε)` experiment (`git show 3afd52e:docs/benchmarks-history.md`).
 //! `cargo run --release -p nhlab-core --example energy_bias` (`STEPS`, default 10⁵ per preset).
 
-use nhlab_core::{Method, Scene, SceneRequest, State, System, Vector};
+use nhlab_core::BuiltIn;
+use nhlab_core::{Method, Scene, SceneRequest, State, Vector};
 
-fn report<S: System<N, R>, const N: usize, const R: usize>(steps: usize) {
+fn report<S: BuiltIn<N, R>, const N: usize, const R: usize>(steps: usize) {
     let info = S::info();
     let pairs = Method::all().into_iter().filter_map(|m| Some((m, m.general_path()?)));
     for (fast, general) in pairs {

@@ -6,9 +6,10 @@
 //! five, then the others), PATH `fast` (the method's default) or `general`; `step_loop list`
 //! prints the indices and which have a general path.
 
-use nhlab_core::{Method, State, System, Vector, for_each_system};
+use nhlab_core::BuiltIn;
+use nhlab_core::{Method, State, Vector, for_each_system};
 
-fn run<S: System<N, R>, const N: usize, const R: usize>(system: &str, m: &Method, steps: u64) {
+fn run<S: BuiltIn<N, R>, const N: usize, const R: usize>(system: &str, m: &Method, steps: u64) {
     if S::info().id != system {
         return;
     }

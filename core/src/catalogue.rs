@@ -2,6 +2,7 @@
 //! user asks for, resolved against a system's presets and checked field by field
 //! ([`scene`]), with the parameter checks systems and methods share ([`params`]).
 
+pub mod custom;
 pub mod params;
 pub mod registry;
 pub mod scene;

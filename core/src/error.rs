@@ -155,6 +155,23 @@ pub enum InputError {
         /// Why.
         reason: String,
     },
+    /// A formula of a system given as formulas does not parse or names what it may not.
+    #[error("{error}")]
+    Formula {
+        /// Field path, e.g. `system.constraints[0][1]`.
+        field: String,
+        /// What is wrong, and where in the formula.
+        error: crate::formula::FormulaError,
+    },
+    /// A system given as formulas is malformed or leaves the class of `docs/model.md` §1
+    /// (sizes, names, a constraint matrix without full rank at the start).
+    #[error("{message}")]
+    CustomSystem {
+        /// Field path, e.g. `system.passenger[1]`.
+        field: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
 }
 
 impl InputError {
@@ -167,7 +184,9 @@ impl InputError {
             | Self::WrongLength { field, .. }
             | Self::NonFinite { field, .. }
             | Self::TooLarge { field, .. }
-            | Self::UnknownMethod { field, .. } => field.clone(),
+            | Self::UnknownMethod { field, .. }
+            | Self::Formula { field, .. }
+            | Self::CustomSystem { field, .. } => field.clone(),
             Self::UnknownPreset { .. } => "preset".into(),
             Self::InconsistentVelocity { .. } => "v".into(),
             Self::NonPositiveStep { .. } => "step".into(),

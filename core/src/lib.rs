@@ -1,6 +1,6 @@
 //! nhlab-core: the numerics of nhlab, without I/O.
 //!
-//! Five wings, each a folder:
+//! Six wings, each a folder:
 //! - [`model`]: the class of nonholonomically coupled systems ([`System`]), the test
 //!   systems ([`systems`]) and the state a step moves ([`State`]);
 //! - [`methods`]: the integrators, one file or folder each, with the [`Integrator`] trait
@@ -10,6 +10,8 @@
 //! - [`measure`]: what a run measures (integrals, the latitude, buckets, verdicts,
 //!   properties, the reference solution, work–precision) and the driver that runs a method
 //!   on a problem and hands the error series to an [`Observer`];
+//! - [`formula`]: the small compiler behind systems given as formulas (parse, symbolic
+//!   derivatives, tapes);
 //! - [`catalogue`]: the registry of systems and the scenes users ask for.
 //!
 //! The mathematics is written up in `docs/model.md`; the code cites its sections. Names
@@ -18,13 +20,17 @@
 
 pub mod catalogue;
 pub mod error;
+pub mod formula;
 pub mod measure;
 pub mod methods;
 pub mod model;
 pub mod solver;
 
-pub use catalogue::registry::{PAPER_SCENES, SYSTEMS, SystemEntry, system};
-pub use catalogue::scene::{MAX_INITIAL, PreparedScene, Scene, SceneRequest};
+pub use catalogue::custom::CustomSystem;
+pub use catalogue::registry::{PAPER_SCENES, SYSTEMS, SystemCode, SystemEntry, system};
+pub use catalogue::scene::{
+    MAX_INITIAL, PreparedScene, Scene, SceneRequest, SceneSystem, SystemRequest,
+};
 pub use error::{InputError, RunError, Short, StepFailure};
 pub use measure::bucket::{Bucket, Bucketer};
 pub use measure::classify::{Verdict, VerdictKind, classify};
@@ -33,8 +39,9 @@ pub use measure::properties::Properties;
 pub use measure::simulate::{Collect, Observer, Problem, RunConfig, RunOutcome};
 pub use methods::integrator::{Integrator, MethodInfo};
 pub use methods::{Method, MethodMemory, MethodSpec, method_info, method_infos};
+pub use model::custom::{CustomLimits, FormulaSpec};
 pub use model::state::State;
-pub use model::system::{DriverTerms, ParamSpec, Preset, System, SystemInfo};
+pub use model::system::{BuiltIn, DriverTerms, ParamSpec, Preset, System, SystemInfo};
 pub use model::systems;
 pub use solver::newton::NewtonConfig;
 

@@ -2,6 +2,7 @@
 //! bit for bit where the two systems' code paths coincide (LF, RK4, DLA^{0,1}), and to
 //! Newton's tolerance where `cvt_pendulum`'s quadratic U shortens a solve (DLA^α, DD, DD-AVF).
 
+use nhlab_core::BuiltIn;
 use nhlab_core::systems::{AnharmonicCvt, CvtPendulum};
 use nhlab_core::{Method, State, System, Vector};
 

@@ -3,11 +3,12 @@
 //! singular on the mobile robot (`dd::is_rounding`), and its solve for the driver's speed
 //! alone had no root (`dd::reduced`, which hands that step to the general solve).
 
+use nhlab_core::BuiltIn;
 use nhlab_core::systems::{CvtPendulum, MobileRobot};
-use nhlab_core::{Method, State, System, Vector};
+use nhlab_core::{Method, State, Vector};
 
 /// Ten steps of every method, by its default path and its general one, from rest at `q`.
-fn stays_at_rest<S: System<N, R>, const N: usize, const R: usize>(sys: &S, q: Vector<N>) {
+fn stays_at_rest<S: BuiltIn<N, R>, const N: usize, const R: usize>(sys: &S, q: Vector<N>) {
     for m in Method::all() {
         for m in [Some(m), m.general_path()].into_iter().flatten() {
             let case = format!("{} {}", S::info().id, m.label());

@@ -2,6 +2,7 @@
 //! log(global error at a fixed time) against log(h) over 5 step sizes (4 halvings), with
 //! errors at the round-off plateau (< 1e-11) dropped.
 
+use nhlab_core::BuiltIn;
 use nhlab_core::systems::{KnifeEdge, RollingDisk};
 use nhlab_core::{Method, MethodSpec, State, System, Vector};
 use std::f64::consts::FRAC_PI_2;

@@ -1,10 +1,11 @@
 //! Every system's hand-written derivatives against central finite differences, its kernel
 //! against its constraint, its presets against the constraints, the periodicity in ζ that
-//! `ZETA_IS_ANGLE` declares, the quadratic U and V_d that `QUADRATIC_PASSENGER` and
-//! `QUADRATIC_DRIVER` declare, the absent U that `FREE_PASSENGER` declares, and its driver
+//! `ZETA_IS_ANGLE` declares, the quadratic U and V_d that `quadratic_passenger` and
+//! `quadratic_driver` declare, the absent U that `free_passenger` declares, and its driver
 //! terms from sin/cos against the plain functions.
 
 mod common;
+use nhlab_core::BuiltIn;
 use nhlab_core::{Matrix, System, Vector};
 use std::f64::consts::TAU;
 
@@ -17,7 +18,7 @@ fn sample_points<const N: usize>() -> Vec<Vector<N>> {
         .collect()
 }
 
-fn check<S: System<N, R>, const N: usize, const R: usize>() {
+fn check<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
     let id = S::info().id;
     for eps in [0.0, 0.3] {
         let params: Vec<f64> = S::info().params.iter().map(|_| eps).collect();
@@ -56,20 +57,20 @@ fn check<S: System<N, R>, const N: usize, const R: usize>() {
             let k = sys.kernel(z);
             assert!((a * k).amax() < 1e-14, "{id}: A k ≠ 0");
             assert!((k.norm() - 1.0).abs() < 1e-14 && k[N - 1] == 0.0, "{id}: k not unit");
-            if S::QUADRATIC_PASSENGER {
+            if sys.quadratic_passenger() {
                 // What the coupled fast paths and DD's and DD-AVF's shortcuts rely on.
                 let (origin, k) = (Vector::<N>::zeros(), sys.passenger_hessian(&q));
                 assert_eq!(k, sys.passenger_hessian(&origin), "{id}: ∇²U not constant");
                 let affine = sys.passenger_gradient(&origin) + k * q;
                 assert!((sys.passenger_gradient(&q) - affine).amax() < 1e-14, "{id}: ∇U at {q}");
             }
-            if S::FREE_PASSENGER {
+            if sys.free_passenger() {
                 // What DD's solve for the driver's speed alone relies on.
                 assert_eq!(sys.passenger_potential(&q), 0.0, "{id}: U ≠ 0");
                 assert_eq!(sys.passenger_gradient(&q), Vector::<N>::zeros(), "{id}: ∇U ≠ 0");
                 assert_eq!(sys.passenger_hessian(&q), Matrix::<N, N>::zeros(), "{id}: ∇²U ≠ 0");
             }
-            if S::QUADRATIC_DRIVER {
+            if sys.quadratic_driver() {
                 // What DLA^α's fast path relies on when it takes one Newton step for the
                 // driver, and DD's and DD-AVF's shortcuts.
                 let d2 = sys.driver_potential_d2(z);

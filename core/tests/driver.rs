@@ -1,6 +1,7 @@
 //! The driver's contract: step counts, buckets, typed failures that keep completed buckets,
 //! non-finite detection and cancellation.
 
+use nhlab_core::BuiltIn;
 use nhlab_core::measure::simulate::{Problem, run};
 use nhlab_core::methods::{Memory, Recall};
 use nhlab_core::systems::KnifeEdge;

@@ -9,8 +9,9 @@
 
 mod common;
 use common::{case, preset_start};
+use nhlab_core::BuiltIn;
+use nhlab_core::Method;
 use nhlab_core::methods::{Dd, DdAvf};
-use nhlab_core::{Method, System};
 
 const STEPS: usize = 100_000;
 /// Largest |H − H(0)| over the run, in units of ε times the largest of H's terms
@@ -19,7 +20,10 @@ const ULPS: f64 = 16.0;
 
 /// max |H − H(0)| / (ε · max(½|q̇|² + |V|)) over `STEPS` steps of `m` from the preset, whole
 /// turns taken off ζ as the driver does.
-fn energy_error<S: System<N, R>, const N: usize, const R: usize>(preset: usize, m: &Method) -> f64 {
+fn energy_error<S: BuiltIn<N, R>, const N: usize, const R: usize>(
+    preset: usize,
+    m: &Method,
+) -> f64 {
     let (sys, mut st, h) = preset_start::<S, N, R>(preset);
     let mut memory = m.memory();
     let h0 = sys.energy(&st.q, &st.v);
@@ -35,8 +39,10 @@ fn energy_error<S: System<N, R>, const N: usize, const R: usize>(preset: usize, 
     worst / (f64::EPSILON * scale)
 }
 
-fn flat<S: System<N, R>, const N: usize, const R: usize>() {
-    if !(S::QUADRATIC_PASSENGER && S::QUADRATIC_DRIVER) {
+fn flat<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
+    let info = S::info();
+    let probe = S::new(&info.preset_params(&info.presets[0]));
+    if !(probe.quadratic_passenger() && probe.quadratic_driver()) {
         return;
     }
     for exact in [Method::Dd(Dd::default()), Method::DdAvf(DdAvf::default())] {

@@ -10,8 +10,9 @@
 
 mod common;
 use common::{case, preset_start, size, step_difference};
+use nhlab_core::BuiltIn;
+use nhlab_core::Method;
 use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01};
-use nhlab_core::{Method, System};
 
 const STEPS: usize = 2000;
 const TOL: f64 = 1e-13;
@@ -32,7 +33,7 @@ fn pairs() -> Vec<(Method, Method)> {
     out
 }
 
-fn same_steps<S: System<N, R>, const N: usize, const R: usize>() {
+fn same_steps<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
     for preset in 0..S::info().presets.len() {
         let (sys, start, h) = preset_start::<S, N, R>(preset);
         for (fast, general) in pairs() {
@@ -88,9 +89,14 @@ fn a_different_method_is_caught() {
 fn dla_fast_paths_run_where_they_pay() {
     use nhlab_core::methods::coupled::coupled_fast_path;
     use nhlab_core::systems::*;
-    assert!(coupled_fast_path::<Cvt, 3, 1>() && coupled_fast_path::<Particle, 3, 1>());
-    assert!(!coupled_fast_path::<CvtPendulum, 3, 1>() && !coupled_fast_path::<KnifeEdge, 3, 1>());
-    assert!(!coupled_fast_path::<RollingDisk, 4, 2>() && !coupled_fast_path::<MobileRobot, 4, 2>());
+    assert!(coupled_fast_path(&Cvt::new(&[])) && coupled_fast_path(&Particle::new(&[])));
+    assert!(
+        !coupled_fast_path(&CvtPendulum::new(&[0.0]))
+            && !coupled_fast_path(&KnifeEdge::new(&[0.0]))
+    );
+    assert!(
+        !coupled_fast_path(&RollingDisk::new(&[])) && !coupled_fast_path(&MobileRobot::new(&[]))
+    );
 }
 
 /// States along the trajectory from which the two paths step.
@@ -102,7 +108,7 @@ const BIAS_TOL: f64 = 1e-17;
 /// The mean, over the states of a trajectory, of one step's energy change `ΔH / (½|q̇|² + |V|)`
 /// for `m`, and the same for `general` (the trajectory is `general`'s, with whole turns taken
 /// off ζ as the driver does), with steps of `h` (the preset's if `None`).
-fn mean_energy_change<S: System<N, R>, const N: usize, const R: usize>(
+fn mean_energy_change<S: BuiltIn<N, R>, const N: usize, const R: usize>(
     preset: usize,
     m: &Method,
     general: &Method,
@@ -133,7 +139,7 @@ fn mean_energy_change<S: System<N, R>, const N: usize, const R: usize>(
     (fast_sum / BIAS_STEPS as f64, general_sum / BIAS_STEPS as f64)
 }
 
-fn unbiased<S: System<N, R>, const N: usize, const R: usize>() {
+fn unbiased<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
     for preset in 0..S::info().presets.len() {
         for (fast, general) in pairs() {
             if !matches!(fast, Method::Dd(_) | Method::DdAvf(_)) {
@@ -168,7 +174,7 @@ fn energy_conserving_fast_paths_do_not_bias_the_energy() {
 /// Newton's tolerance alone, 3·10⁻¹⁵ and 9·10⁻¹⁵); the general solves stopped at an estimated
 /// 10⁻¹⁴ (DD on `cvt_pendulum`'s `oscillating-perturbed` scene: 3·10⁻¹⁶ per step at h = 0.5).
 /// Measured in this test before the fix: −1.7·10⁻¹⁵ (the solve for σ, h = 0.2).
-fn unbiased_at_large_steps<S: System<N, R>, const N: usize, const R: usize>(preset: usize) {
+fn unbiased_at_large_steps<S: BuiltIn<N, R>, const N: usize, const R: usize>(preset: usize) {
     for (fast, general) in pairs() {
         if !matches!(fast, Method::Dd(_) | Method::DdAvf(_)) {
             continue;

@@ -13,7 +13,10 @@ fn err(r: SceneRequest) -> InputError {
 #[test]
 fn presets_fill_and_fields_override() {
     let s = Scene::resolve(&req("cvt_pendulum")).unwrap();
-    assert_eq!((s.preset, s.steps(), s.params.as_slice()), ("oscillating", 30_000, &[0.0][..]));
+    assert_eq!(
+        (s.preset, s.steps(), s.params.as_slice()),
+        (Some("oscillating"), 30_000, &[0.0][..])
+    );
     let s = Scene::resolve(&SceneRequest {
         preset: Some("rotating-perturbed".into()),
         ..req("cvt_pendulum")

@@ -1,6 +1,7 @@
 //! Accuracy of the latitude's monodromy axis, and the latitude as a conserved quantity.
 
 use nalgebra::{Matrix3, Vector3};
+use nhlab_core::BuiltIn;
 use nhlab_core::measure::latitude::LatitudeAxis;
 use nhlab_core::systems::{Cvt, CvtPendulum};
 use nhlab_core::{

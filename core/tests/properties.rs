@@ -5,8 +5,9 @@
 
 mod common;
 use common::preset_start;
+use nhlab_core::BuiltIn;
 use nhlab_core::{
-    Collect, Method, MethodSpec, RunConfig, SYSTEMS, Scene, SceneRequest, System, method_infos,
+    Collect, Method, MethodSpec, RunConfig, SYSTEMS, Scene, SceneRequest, method_infos,
 };
 
 fn method(id: &str) -> Method {
@@ -64,7 +65,7 @@ fn every_method_runs_on_every_system() {
     }
 }
 
-fn avf_energy<S: System<N, R>, const N: usize, const R: usize>() {
+fn avf_energy<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
     let (sys, mut st, h) = preset_start::<S, N, R>(0);
     let h0 = sys.energy(&st.q, &st.v);
     let m = method("dd_avf");

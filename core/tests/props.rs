@@ -4,8 +4,9 @@
 //! possibly absurd, user numbers never panics either.
 
 mod common;
+use nhlab_core::BuiltIn;
 use nhlab_core::{
-    Collect, Method, MethodSpec, RunConfig, Scene, SceneRequest, System, Vector, method_infos,
+    Collect, Method, MethodSpec, RunConfig, Scene, SceneRequest, Vector, method_infos,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRunner};
@@ -21,7 +22,7 @@ fn methods(alpha: f64) -> Vec<Method> {
         .collect()
 }
 
-fn random_runs<S: System<N, R>, const N: usize, const R: usize>() {
+fn random_runs<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
     let info = S::info();
     let mut runner = TestRunner::new(Config { cases: 24, ..Config::default() });
     let param = |p: &nhlab_core::ParamSpec| {

@@ -1,5 +1,5 @@
 //! The shortcuts DD and DD-AVF take where parts of V are quadratic
-//! (`System::QUADRATIC_PASSENGER`, `System::QUADRATIC_DRIVER`) against their general
+//! (`System::quadratic_passenger`, `System::quadratic_driver`) against their general
 //! discrete gradients: every test system is wrapped in [`General`], which declares neither,
 //! and from every state of a trajectory (each preset) one step of each gives the same
 //! `(q₁, q̇₁, λ₁)` to 1e-13 (relative to the state's size). Every test system has a quadratic
@@ -7,6 +7,7 @@
 
 mod common;
 use common::{case, preset_start, worst_step_difference};
+use nhlab_core::BuiltIn;
 use nhlab_core::methods::{Dd, DdAvf};
 use nhlab_core::{DriverTerms, Matrix, Method, System, SystemInfo, Vector};
 
@@ -16,14 +17,17 @@ const TOL: f64 = 1e-13;
 /// `S` without its declarations of quadratic potentials.
 struct General<S>(S);
 
-impl<S: System<N, R>, const N: usize, const R: usize> System<N, R> for General<S> {
-    const ZETA_IS_ANGLE: bool = S::ZETA_IS_ANGLE;
+impl<S: BuiltIn<N, R>, const N: usize, const R: usize> BuiltIn<N, R> for General<S> {
     fn info() -> &'static SystemInfo {
         S::info()
     }
     fn new(params: &[f64]) -> Self {
         Self(S::new(params))
     }
+}
+
+impl<S: BuiltIn<N, R>, const N: usize, const R: usize> System<N, R> for General<S> {
+    const ZETA_IS_ANGLE: bool = S::ZETA_IS_ANGLE;
     fn passenger_potential(&self, q: &Vector<N>) -> f64 {
         self.0.passenger_potential(q)
     }
@@ -61,7 +65,7 @@ impl<S: System<N, R>, const N: usize, const R: usize> System<N, R> for General<S
 
 /// The largest relative difference between one step of `a` on `S` and one of `b` on
 /// `General<S>`, from each state of `b`'s trajectory of preset `preset`.
-fn worst_difference<S: System<N, R>, const N: usize, const R: usize>(
+fn worst_difference<S: BuiltIn<N, R>, const N: usize, const R: usize>(
     preset: usize,
     (a, b): (Method, Method),
 ) -> f64 {
@@ -76,7 +80,7 @@ fn worst_difference<S: System<N, R>, const N: usize, const R: usize>(
     )
 }
 
-fn same_steps<S: System<N, R>, const N: usize, const R: usize>() {
+fn same_steps<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
     for preset in 0..S::info().presets.len() {
         for m in [Method::Dd(Dd::default()), Method::DdAvf(DdAvf::default())] {
             let worst = worst_difference::<S, N, R>(preset, (m, m));

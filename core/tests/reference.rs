@@ -2,9 +2,10 @@
 //! solutions, and by tolerance halving on the paper's CVT (to t = 300, and to the paper's
 //! t = 3000 with a rotating driver).
 
+use nhlab_core::BuiltIn;
+use nhlab_core::Vector;
 use nhlab_core::measure::reference::{TOL, reference};
 use nhlab_core::systems::{CvtPendulum, KnifeEdge, RollingDisk};
-use nhlab_core::{System, Vector};
 use std::f64::consts::FRAC_PI_2;
 
 #[test]

@@ -1,11 +1,12 @@
 //! The reference solve's bounds: a caller's stop flag ends it, and the states Dop853 keeps do
 //! not grow with the number of steps.
 
+use nhlab_core::BuiltIn;
+use nhlab_core::Vector;
 use nhlab_core::measure::reference::{
     CHUNK, ReferenceError, STOP_EVERY, TOL, reference, reference_until,
 };
 use nhlab_core::systems::{Cvt, CvtPendulum};
-use nhlab_core::{System, Vector};
 use std::cell::Cell;
 
 fn cvt_start() -> (Vector<3>, Vector<3>) {

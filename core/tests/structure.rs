@@ -3,8 +3,9 @@
 
 mod common;
 use common::preset_start;
+use nhlab_core::BuiltIn;
 use nhlab_core::{
-    Bucket, Integral, Method, MethodMemory, MethodSpec, Observer, Problem, RunConfig, State, System,
+    Bucket, Integral, Method, MethodMemory, MethodSpec, Observer, Problem, RunConfig, State,
 };
 
 fn method(id: &str) -> Method {
@@ -14,7 +15,7 @@ fn dla(alpha: f64) -> Method {
     Method::from_spec(&MethodSpec::new("dla").with("alpha", alpha)).unwrap()
 }
 
-fn constraints_every_step<S: System<N, R>, const N: usize, const R: usize>() {
+fn constraints_every_step<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
     let (sys, start, h) = preset_start::<S, N, R>(0);
     for m in [
         dla(0.5),
@@ -80,7 +81,7 @@ impl Observer for EnergyWatch {
 /// kinetic energy at the end where the motion runs away (the perturbed knife edge slides
 /// 1.3·10⁶ down its plane in 10⁵ steps, and H = 0.5 is the difference of two terms of that
 /// size, whose rounding alone is 10⁻¹⁰); and the final ζ, as the run started it.
-fn dd_energy_error<S: System<N, R>, const N: usize, const R: usize>(
+fn dd_energy_error<S: BuiltIn<N, R>, const N: usize, const R: usize>(
     sys: &S,
     start: State<N, R>,
     h: f64,
@@ -95,7 +96,7 @@ fn dd_energy_error<S: System<N, R>, const N: usize, const R: usize>(
     (watch.worst / watch.initial.abs().max(watch.kinetic_end), watch.zeta_end)
 }
 
-fn dd_energy<S: System<N, R>, const N: usize, const R: usize>() {
+fn dd_energy<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
     let dd = method("dd");
     for (p, preset) in S::info().presets.iter().enumerate() {
         let (sys, start, h) = preset_start::<S, N, R>(p);
@@ -141,7 +142,7 @@ fn dd_energy_on_a_rotating_driver_does_not_grow_with_the_angle() {
 
 /// One step, flip the velocity (λ unchanged), one step, flip again: distance to the start.
 /// `memory` is what the start was reached with (a memory of another method is dropped).
-fn round_trip<S: System<N, R>, const N: usize, const R: usize>(
+fn round_trip<S: BuiltIn<N, R>, const N: usize, const R: usize>(
     sys: &S,
     m: &Method,
     (start, memory): (State<N, R>, MethodMemory<N, R>),
@@ -155,7 +156,7 @@ fn round_trip<S: System<N, R>, const N: usize, const R: usize>(
     (st.q - start.q).amax().max((st.v - start.v).amax())
 }
 
-fn reversibility<S: System<N, R>, const N: usize, const R: usize>() {
+fn reversibility<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
     for p in 0..S::info().presets.len() {
         let (sys, mut start, h) = preset_start::<S, N, R>(p);
         let leapfrog = method("leapfrog");

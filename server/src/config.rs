@@ -2,6 +2,7 @@
 //! small machine. Every limit is named in the error a request gets when it exceeds it, and
 //! each is a flag and an environment variable of the binary (`nhlab --help`).
 
+use nhlab_core::CustomLimits;
 use std::time::Duration;
 
 /// Limits on what one request may ask for, and on how much runs at once.
@@ -41,6 +42,9 @@ pub struct Config {
     /// Time a request body has to arrive once its handler starts reading it; a body still
     /// incomplete then gets 408 (a trickling client holds no connection for long).
     pub body_timeout: Duration,
+    /// Bounds on a system given as formulas: characters per formula, nesting depth, number
+    /// of parameters.
+    pub formulas: CustomLimits,
 }
 
 impl Default for Config {
@@ -59,6 +63,7 @@ impl Default for Config {
             #[cfg(debug_assertions)]
             panic_on_points: None,
             body_timeout: Duration::from_secs(10),
+            formulas: CustomLimits::default(),
         }
     }
 }

@@ -55,6 +55,16 @@ struct Args {
     #[arg(long, env = "NHLAB_MAX_INFLIGHT_BYTES",
           default_value_t = defaults().max_inflight_bytes)]
     max_inflight_bytes: u64,
+    /// Most characters per formula of a system given as formulas.
+    #[arg(long, env = "NHLAB_MAX_FORMULA_CHARS", default_value_t = defaults().formulas.formula.max_chars)]
+    max_formula_chars: usize,
+    /// Deepest nesting (parentheses, calls, signs, exponents) in a formula.
+    #[arg(long, env = "NHLAB_MAX_FORMULA_DEPTH", default_value_t = defaults().formulas.formula.max_depth)]
+    max_formula_depth: usize,
+    /// Most parameters of a system given as formulas.
+    #[arg(long, env = "NHLAB_MAX_FORMULA_PARAMETERS",
+          default_value_t = defaults().formulas.max_parameters)]
+    max_formula_parameters: usize,
     /// Largest request body, in bytes (larger: 413).
     #[arg(long, env = "NHLAB_MAX_BODY_BYTES", default_value_t = defaults().max_body_bytes)]
     max_body_bytes: usize,
@@ -139,6 +149,14 @@ impl Args {
             max_inflight_bytes: self.max_inflight_bytes,
             cors_origins: self.cors_origin.clone(),
             body_timeout: Duration::from_secs_f64(self.body_timeout),
+            formulas: nhlab_core::CustomLimits {
+                formula: nhlab_core::formula::Limits {
+                    max_chars: self.max_formula_chars,
+                    max_depth: self.max_formula_depth,
+                    ..defaults().formulas.formula
+                },
+                max_parameters: self.max_formula_parameters,
+            },
             ..Config::default()
         }
     }

@@ -69,7 +69,9 @@ async fn flags_and_environment_set_the_limits() {
             .env("NHLAB_MAX_SIMULATIONS", "3")
             .env("NHLAB_MAX_METHODS", "2")
             .env("NHLAB_MAX_STEPS_JSON", "1000")
-            .env("NHLAB_MAX_STEPS_STREAM", "2000");
+            .env("NHLAB_MAX_STEPS_STREAM", "2000")
+            .args(["--max-formula-chars", "30", "--max-formula-depth", "3"])
+            .env("NHLAB_MAX_FORMULA_PARAMETERS", "1");
     });
     let url = &server.url;
     let systems: Value =
@@ -77,7 +79,8 @@ async fn flags_and_environment_set_the_limits() {
     assert_eq!(
         systems["limits"],
         json!({"max_steps_json": 1000, "max_steps_stream": 2000, "max_points": 50,
-               "max_methods": 2, "max_body_bytes": 2000, "max_simulations": 3})
+               "max_methods": 2, "max_body_bytes": 2000, "max_simulations": 3,
+               "formula_chars": 30, "formula_depth": 3, "formula_parameters": 1})
     );
     let health: Value = reqwest::get(format!("{url}/health")).await.unwrap().json().await.unwrap();
     assert_eq!(health["max_simulations"], 3);
@@ -100,6 +103,24 @@ async fn flags_and_environment_set_the_limits() {
     assert!(error["error"].as_str().unwrap().contains("limit of 1000"), "{error}");
     let response = post(json!({"system": "knife_edge", "q": vec![0; 1000]})).await.unwrap();
     assert_eq!(response.status(), 413);
+    // The formula limits.
+    let custom = |u: &str, parameters: Value| {
+        json!({"system": {"passenger": ["x", "y"], "driver": "z", "parameters": parameters,
+                          "passenger_potential": u, "driver_potential": "0",
+                          "constraints": [["1", "z"]]},
+               "q": [0, 0, 0], "v": [0, 0, 1], "t_end": 1, "methods": ["leapfrog"], "points": 10})
+    };
+    for (body, path, mention) in [
+        (custom(&"x+".repeat(20), json!({})), "system.passenger_potential", "at most 30"),
+        (custom("((((x))))", json!({})), "system.passenger_potential", "deeper than 3"),
+        (custom("x", json!({"a": 1, "b": 2})), "system.parameters", "at most 1"),
+    ] {
+        let error: Value = post(body).await.unwrap().json().await.unwrap();
+        assert_eq!(error["path"], path, "{error}");
+        assert!(error["error"].as_str().unwrap().contains(mention), "{error}");
+    }
+    let ok = post(custom("x^2", json!({"a": 1}))).await.unwrap();
+    assert_eq!(ok.status(), 200);
     for (origin, allowed) in [("https://b.example", true), ("https://c.example", false)] {
         let response =
             client.get(format!("{url}/systems")).header("origin", origin).send().await.unwrap();

@@ -9,8 +9,10 @@ use crate::measure::latitude::LatitudeAxis;
 use crate::measure::properties::{self, Properties};
 use crate::measure::reference::{self, ReferenceError};
 use crate::measure::simulate::{Observer, Problem, RunConfig, RunOutcome};
-use crate::model::system::{System, SystemInfo};
+use crate::model::custom::{Compiled, Custom};
+use crate::model::system::{BuiltIn, System, SystemInfo};
 use crate::{InputError, Integral, Method, RunError, State, StepFailure, Vector};
+use std::sync::Arc;
 
 /// Every system, in listing order.
 pub static SYSTEMS: &[SystemEntry] = crate::with_systems!(entries);
@@ -36,6 +38,9 @@ pub struct Start<'a> {
     pub q: &'a [f64],
     /// Initial velocity.
     pub v: &'a [f64],
+    /// The compiled formulas of a system given as formulas (whose parameters are compiled
+    /// into them); `None` for a built-in.
+    pub custom: Option<&'a Arc<Compiled>>,
 }
 
 /// What one run needs besides the method, sizes erased.
@@ -53,9 +58,9 @@ pub struct RunInput<'a> {
     pub latitude: Option<LatitudeAxis>,
 }
 
-/// A registered system: its description and its code, monomorphized for its sizes.
-pub struct SystemEntry {
-    info: fn() -> &'static SystemInfo,
+/// A system's code, monomorphized for its type and sizes, sizes erased: the built-ins' and
+/// the sizes a system given as formulas may have ([`CUSTOM_SIZES`]).
+pub struct SystemCode {
     /// Number of coordinates n.
     pub dof: usize,
     /// Number of constraints r.
@@ -65,6 +70,17 @@ pub struct SystemEntry {
     pub(crate) run: fn(&RunInput<'_>, &Method, &RunConfig, &mut dyn Observer) -> RunOutcome,
     pub(crate) properties: fn(Start<'_>, f64, &Method) -> Result<Properties, StepFailure>,
     pub(crate) reference: ReferenceFn,
+}
+
+/// A registered system: its description and its code.
+pub struct SystemEntry {
+    info: fn() -> &'static SystemInfo,
+    /// Number of coordinates n.
+    pub dof: usize,
+    /// Number of constraints r.
+    pub constraints: usize,
+    /// Its code.
+    pub code: SystemCode,
 }
 
 /// The reference solve of a system: start, t_end, tolerance, stop flag.
@@ -92,28 +108,53 @@ impl std::fmt::Debug for SystemEntry {
     }
 }
 
+impl std::fmt::Debug for SystemCode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SystemCode").field("dof", &self.dof).field("r", &self.constraints).finish()
+    }
+}
+
 fn vectors<const N: usize>(start: Start<'_>) -> (Vector<N>, Vector<N>) {
     (Vector::<N>::from_column_slice(start.q), Vector::<N>::from_column_slice(start.v))
 }
 
-impl SystemEntry {
-    /// The entry of `S`.
-    pub const fn of<S: System<N, R>, const N: usize, const R: usize>() -> Self {
+/// How a system's code builds the system from a [`Start`].
+pub trait FromStart<const N: usize, const R: usize>: System<N, R> {
+    /// The system of this start.
+    fn from_start(start: &Start<'_>) -> Self;
+}
+
+impl<S: BuiltIn<N, R>, const N: usize, const R: usize> FromStart<N, R> for S {
+    fn from_start(start: &Start<'_>) -> Self {
+        S::new(start.params)
+    }
+}
+
+impl<const N: usize, const R: usize> FromStart<N, R> for Custom<N, R> {
+    fn from_start(start: &Start<'_>) -> Self {
+        // `Scene` pairs a custom system's code with its compilation: never absent here.
+        let compiled = start.custom.expect("a system given as formulas runs with its compilation");
+        Custom::new(compiled.clone())
+    }
+}
+
+impl SystemCode {
+    /// The code of `S`.
+    pub const fn of<S: FromStart<N, R>, const N: usize, const R: usize>() -> Self {
         Self {
-            info: S::info,
             dof: N,
             constraints: R,
             residual: |start| {
                 let (q, v) = vectors::<N>(start);
-                S::new(start.params).constraint_residual(&q, &v)
+                S::from_start(&start).constraint_residual(&q, &v)
             },
             latitude: |start| {
                 let (q, v) = vectors::<N>(start);
-                LatitudeAxis::compute(&S::new(start.params), &q, &v)
+                LatitudeAxis::compute(&S::from_start(&start), &q, &v)
             },
             reference: |start, t_end, tol, stop| {
                 let (q, v) = vectors::<N>(start);
-                let sys = S::new(start.params);
+                let sys = S::from_start(&start);
                 let r = reference::reference_until(&sys, &q, &v, t_end, tol, stop)?;
                 Ok(ReferenceState {
                     q: r.q.as_slice().to_vec(),
@@ -124,14 +165,14 @@ impl SystemEntry {
                 })
             },
             properties: |start, step, method| {
-                let sys = S::new(start.params);
+                let sys = S::from_start(&start);
                 let (q, v) = vectors::<N>(start);
                 let start =
                     State::with_continuous_multiplier(&sys, q, v).ok_or(StepFailure::Singular)?;
                 properties::measure(&sys, method, start, step)
             },
             run: |input, method, cfg, observer| {
-                let sys = S::new(input.start.params);
+                let sys = S::from_start(&input.start);
                 let (q, v) = vectors::<N>(input.start);
                 let Some(start) = State::with_continuous_multiplier(&sys, q, v) else {
                     let failure = StepFailure::Singular;
@@ -152,11 +193,43 @@ impl SystemEntry {
             },
         }
     }
+}
+
+impl SystemEntry {
+    /// The entry of `S`.
+    pub const fn of<S: BuiltIn<N, R>, const N: usize, const R: usize>() -> Self {
+        Self { info: S::info, dof: N, constraints: R, code: SystemCode::of::<S, N, R>() }
+    }
 
     /// Its description.
     pub fn info(&self) -> &'static SystemInfo {
         (self.info)()
     }
+}
+
+/// The code of a system given as formulas, for each size it may have: n passengers (2 to
+/// 6) and 1 to n − 1 constraints, as `(n + 1, r)`.
+pub static CUSTOM_SIZES: &[SystemCode] = &[
+    SystemCode::of::<Custom<3, 1>, 3, 1>(),
+    SystemCode::of::<Custom<4, 1>, 4, 1>(),
+    SystemCode::of::<Custom<4, 2>, 4, 2>(),
+    SystemCode::of::<Custom<5, 1>, 5, 1>(),
+    SystemCode::of::<Custom<5, 2>, 5, 2>(),
+    SystemCode::of::<Custom<5, 3>, 5, 3>(),
+    SystemCode::of::<Custom<6, 1>, 6, 1>(),
+    SystemCode::of::<Custom<6, 2>, 6, 2>(),
+    SystemCode::of::<Custom<6, 3>, 6, 3>(),
+    SystemCode::of::<Custom<6, 4>, 6, 4>(),
+    SystemCode::of::<Custom<7, 1>, 7, 1>(),
+    SystemCode::of::<Custom<7, 2>, 7, 2>(),
+    SystemCode::of::<Custom<7, 3>, 7, 3>(),
+    SystemCode::of::<Custom<7, 4>, 7, 4>(),
+    SystemCode::of::<Custom<7, 5>, 7, 5>(),
+];
+
+/// The code for a system given as formulas of these sizes.
+pub fn custom_code(dof: usize, constraints: usize) -> Option<&'static SystemCode> {
+    CUSTOM_SIZES.iter().find(|c| c.dof == dof && c.constraints == constraints)
 }
 
 /// The system with this id.

@@ -5,17 +5,103 @@
 //! Resolution: the preset (the system's first when none is named) fills params, q, v, step
 //! and t_end; explicit fields override it. The number of steps is `⌊t_end/h + 10⁻⁹⌋`.
 
+use super::custom::CustomSystem;
 use super::params::resolve_params;
-use super::registry::{ReferenceState, RunInput, Start, SystemEntry, system};
+use super::registry::{ReferenceState, RunInput, Start, SystemCode, SystemEntry, system};
 use crate::measure::latitude::LatitudeAxis;
 use crate::measure::simulate::{Observer, RunConfig, RunOutcome};
+use crate::model::custom::{CustomLimits, FormulaSpec};
 use crate::{InputError, Integral, Method};
+use std::sync::Arc;
+
+/// The system a scene asks for: a built-in by id, or one given as formulas.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SystemRequest {
+    /// A built-in system's id.
+    Id(String),
+    /// A system given as formulas (`docs/model.md` §7).
+    Formulas(FormulaSpec),
+}
+
+impl From<&str> for SystemRequest {
+    fn from(id: &str) -> Self {
+        Self::Id(id.into())
+    }
+}
+
+impl Default for SystemRequest {
+    fn default() -> Self {
+        Self::Id(String::new())
+    }
+}
+
+/// A scene's system, resolved.
+#[derive(Debug, Clone)]
+pub enum SceneSystem {
+    /// A built-in.
+    BuiltIn(&'static SystemEntry),
+    /// A system given as formulas, compiled.
+    Custom(Arc<CustomSystem>),
+}
+
+impl SceneSystem {
+    /// Its code.
+    pub fn code(&self) -> &'static SystemCode {
+        match self {
+            Self::BuiltIn(entry) => &entry.code,
+            Self::Custom(c) => c.code,
+        }
+    }
+    /// The built-in's id, or the name of a system given as formulas.
+    pub fn id(&self) -> &str {
+        match self {
+            Self::BuiltIn(entry) => entry.info().id,
+            Self::Custom(c) => &c.spec.name,
+        }
+    }
+    /// The built-in, if it is one.
+    pub fn built_in(&self) -> Option<&'static SystemEntry> {
+        match self {
+            Self::BuiltIn(entry) => Some(entry),
+            Self::Custom(_) => None,
+        }
+    }
+    /// The system given as formulas, if it is one.
+    pub fn custom(&self) -> Option<&CustomSystem> {
+        match self {
+            Self::BuiltIn(_) => None,
+            Self::Custom(c) => Some(c),
+        }
+    }
+    /// Its parameters' names, in order.
+    pub fn param_names(&self) -> Vec<&str> {
+        match self {
+            Self::BuiltIn(entry) => entry.info().params.iter().map(|p| p.name).collect(),
+            Self::Custom(c) => c.spec.parameters.iter().map(|p| p.0.as_str()).collect(),
+        }
+    }
+    /// The integrals it has.
+    pub fn integrals(&self) -> &[Integral] {
+        match self {
+            Self::BuiltIn(entry) => entry.info().integrals,
+            Self::Custom(c) => &c.integrals,
+        }
+    }
+    /// What identifies the system's equations, for caches: the id, or the whole formula
+    /// form (parameters are a scene's own).
+    pub fn key(&self) -> String {
+        match self {
+            Self::BuiltIn(entry) => entry.info().id.into(),
+            Self::Custom(c) => format!("{:?}", c.spec),
+        }
+    }
+}
 
 /// A scene as a user gives it: only `system` is required.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SceneRequest {
-    /// System id.
-    pub system: String,
+    /// The system.
+    pub system: SystemRequest,
     /// Preset id; the system's first preset when absent.
     pub preset: Option<String>,
     /// Parameter overrides, by name.
@@ -34,9 +120,9 @@ pub struct SceneRequest {
 #[derive(Debug, Clone)]
 pub struct Scene {
     /// The system.
-    pub system: &'static SystemEntry,
-    /// The preset it started from.
-    pub preset: &'static str,
+    pub system: SceneSystem,
+    /// The preset it started from (none for a system given as formulas).
+    pub preset: Option<&'static str>,
     /// Parameter values, in the order of the system's `params`.
     pub params: Vec<f64>,
     /// Initial configuration.
@@ -81,9 +167,22 @@ fn vector(field: &str, values: &[f64], dof: usize) -> Result<Vec<f64>, InputErro
 }
 
 impl Scene {
-    /// Resolves and checks a request.
+    /// Default step and final time of a system given as formulas, which has no presets.
+    pub const CUSTOM_STEP: f64 = 0.1;
+    /// See [`Scene::CUSTOM_STEP`].
+    pub const CUSTOM_T_END: f64 = 100.0;
+
+    /// Resolves and checks a request, a system given as formulas within the default limits.
     pub fn resolve(req: &SceneRequest) -> Result<Self, InputError> {
-        let entry = system(&req.system)?;
+        Self::resolve_within(req, &CustomLimits::default())
+    }
+
+    /// Resolves and checks a request, a system given as formulas within `limits`.
+    pub fn resolve_within(req: &SceneRequest, limits: &CustomLimits) -> Result<Self, InputError> {
+        let entry = match &req.system {
+            SystemRequest::Id(id) => system(id)?,
+            SystemRequest::Formulas(spec) => return Self::resolve_custom(req, spec, limits),
+        };
         let info = entry.info();
         let preset = match &req.preset {
             None => &info.presets[0],
@@ -109,13 +208,66 @@ impl Scene {
         if t_end < step {
             return Err(InputError::TEndTooShort { t_end, step });
         }
-        let scene = Self { system: entry, preset: preset.id, params, q, v, step, t_end };
-        let residual = (entry.residual)(scene.start());
+        let scene = Self {
+            system: SceneSystem::BuiltIn(entry),
+            preset: Some(preset.id),
+            params,
+            q,
+            v,
+            step,
+            t_end,
+        };
+        scene.consistent()
+    }
+
+    fn resolve_custom(
+        req: &SceneRequest,
+        spec: &FormulaSpec,
+        limits: &CustomLimits,
+    ) -> Result<Self, InputError> {
+        if req.preset.is_some() {
+            return Err(InputError::CustomSystem {
+                field: "preset".into(),
+                message: "a system given as formulas has no presets: give q and v (and step, \
+                          t_end) instead"
+                    .into(),
+            });
+        }
+        let custom = CustomSystem::compile(spec, &req.params, limits)?;
+        let dof = custom.code.dof;
+        let required = |field: &str, given: &Option<Vec<f64>>| {
+            given.clone().ok_or_else(|| InputError::CustomSystem {
+                field: field.into(),
+                message: format!(
+                    "{field} is required for a system given as formulas: {dof} numbers, the \
+                     passenger coordinates then the driver"
+                ),
+            })
+        };
+        let q = vector("q", &required("q", &req.q)?, dof)?;
+        let v = vector("v", &required("v", &req.v)?, dof)?;
+        custom.check_start(&q)?;
+        let step = finite("step", req.step.unwrap_or(Self::CUSTOM_STEP))?;
+        if step <= 0.0 {
+            return Err(InputError::NonPositiveStep { step });
+        }
+        let t_end = finite("t_end", req.t_end.unwrap_or(Self::CUSTOM_T_END))?;
+        if t_end < step {
+            return Err(InputError::TEndTooShort { t_end, step });
+        }
+        let params = custom.compiled.values.clone();
+        let system = SceneSystem::Custom(Arc::new(custom));
+        Self { system, preset: None, params, q, v, step, t_end }.consistent()
+    }
+
+    /// The scene, if its initial velocity satisfies the constraints.
+    fn consistent(self) -> Result<Self, InputError> {
+        let residual = (self.system.code().residual)(self.start());
         // A NaN residual (overflowing q or v) is inconsistent too.
         if residual.is_nan() || residual > 1e-9 {
             return Err(InputError::InconsistentVelocity { residual });
         }
-        Ok(scene)
+        Ok(self)
     }
 
     /// `N = ⌊t_end/h + 10⁻⁹⌋`: t_end = 3000, h = 0.1 is 30,000 steps.
@@ -125,12 +277,17 @@ impl Scene {
 
     /// The system's parameters and the initial state.
     pub fn start(&self) -> Start<'_> {
-        Start { params: &self.params, q: &self.q, v: &self.v }
+        Start {
+            params: &self.params,
+            q: &self.q,
+            v: &self.v,
+            custom: self.system.custom().map(|c| &c.compiled),
+        }
     }
 
     /// Parameter names with their values.
-    pub fn named_params(&self) -> Vec<(&'static str, f64)> {
-        self.system.info().params.iter().map(|p| p.name).zip(self.params.iter().copied()).collect()
+    pub fn named_params(&self) -> Vec<(&str, f64)> {
+        self.system.param_names().into_iter().zip(self.params.iter().copied()).collect()
     }
 
     /// Measures the reversibility and fibration preservation of `method` from this scene's
@@ -139,7 +296,7 @@ impl Scene {
         &self,
         method: &Method,
     ) -> Result<crate::measure::properties::Properties, crate::StepFailure> {
-        (self.system.properties)(self.start(), self.step, method)
+        (self.system.code().properties)(self.start(), self.step, method)
     }
 
     /// The Dop853 reference solution at t_end (see [`crate::measure::reference`]).
@@ -157,7 +314,7 @@ impl Scene {
         tol: f64,
         stop: &dyn Fn() -> bool,
     ) -> Result<ReferenceState, crate::measure::reference::ReferenceError> {
-        (self.system.reference)(self.start(), self.t_end, tol, stop)
+        (self.system.code().reference)(self.start(), self.t_end, tol, stop)
     }
 
     /// Checks `integrals` against the system (all it has when `None`) and computes the
@@ -169,7 +326,7 @@ impl Scene {
     /// The latitude's monodromy axis from this scene's start (see [`crate::measure::latitude`]); it
     /// depends on the system, its parameters, q and v only, not on the step or t_end.
     pub fn latitude_axis(&self) -> Result<LatitudeAxis, InputError> {
-        (self.system.latitude)(self.start())
+        (self.system.code().latitude)(self.start())
     }
 
     /// [`prepare`](Self::prepare), the axis (when the latitude is measured) obtained from
@@ -179,9 +336,10 @@ impl Scene {
         integrals: Option<&[String]>,
         axis: impl FnOnce(&Scene) -> Result<LatitudeAxis, InputError>,
     ) -> Result<PreparedScene, InputError> {
-        let info = self.system.info();
-        let integrals = match integrals {
-            None => info.integrals.to_vec(),
+        let available = self.system.integrals();
+        let asked = integrals.is_some();
+        let mut integrals = match integrals {
+            None => available.to_vec(),
             Some(names) => {
                 let mut out = Vec::new();
                 for name in names {
@@ -189,16 +347,22 @@ impl Scene {
                         name: name.clone(),
                         valid: Integral::valid_ids(),
                     })?;
-                    if !info.integrals.contains(&i) {
+                    if !available.contains(&i) {
+                        let why = match &self.system {
+                            SceneSystem::Custom(_) if i == Integral::Latitude => {
+                                " (the latitude is defined for two passengers, one constraint and U = |x|²/2 + const, docs/model.md §5)"
+                            }
+                            _ => "",
+                        };
                         return Err(InputError::IntegralUnavailable {
                             integral: name.clone(),
-                            system: info.id.into(),
-                            available: info
-                                .integrals
+                            system: self.system.id().into(),
+                            available: available
                                 .iter()
                                 .map(|i| i.id())
                                 .collect::<Vec<_>>()
-                                .join(", "),
+                                .join(", ")
+                                + why,
                         });
                     }
                     if !out.contains(&i) {
@@ -208,8 +372,17 @@ impl Scene {
                 out
             }
         };
-        let latitude =
-            if integrals.contains(&Integral::Latitude) { Some(axis(&self)?) } else { None };
+        let latitude = match integrals.contains(&Integral::Latitude).then(|| axis(&self)) {
+            None => None,
+            Some(Ok(axis)) => Some(axis),
+            // Asked for by name, an undefined latitude is the request's error; among "all the
+            // system has" it is left out (the scene's integrals say so).
+            Some(Err(InputError::LatitudeUndefined { .. })) if !asked => {
+                integrals.retain(|&i| i != Integral::Latitude);
+                None
+            }
+            Some(Err(e)) => return Err(e),
+        };
         Ok(PreparedScene { scene: self, integrals, latitude })
     }
 }
@@ -236,6 +409,6 @@ impl PreparedScene {
             integrals: &self.integrals,
             latitude: self.latitude,
         };
-        (scene.system.run)(&input, method, cfg, observer)
+        (scene.system.code().run)(&input, method, cfg, observer)
     }
 }

@@ -9,6 +9,6 @@ use crate::model::system::System;
 /// affine, the passenger's one linear solve, and neither needs a sine. Where ζ is an angle,
 /// the sines and cosines that both paths evaluate hold the fast paths under 2×, so those
 /// systems take the general solve.
-pub const fn coupled_fast_path<S: System<N, R>, const N: usize, const R: usize>() -> bool {
-    S::QUADRATIC_PASSENGER && S::QUADRATIC_DRIVER && !S::ZETA_IS_ANGLE
+pub fn coupled_fast_path<S: System<N, R>, const N: usize, const R: usize>(sys: &S) -> bool {
+    sys.quadratic_passenger() && sys.quadratic_driver() && !S::ZETA_IS_ANGLE
 }

@@ -81,10 +81,10 @@ impl Integrator for Dd {
         mem: &mut DdMemory<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
-        if self.fast_path && closed_form::applies::<S, N, R>() {
+        if self.fast_path && closed_form::applies(sys) {
             return closed_form::step(sys, st, mem, h);
         }
-        if self.fast_path && reduced::applies::<S, N, R>() {
+        if self.fast_path && reduced::applies(sys) {
             // Where the solve for σ fails (at rest at an equilibrium its closed form is 0/0),
             // the general one decides, out of line: inlined here it slowed every step.
             return reduced::step(sys, st, mem, h, &self.newton)
@@ -108,7 +108,7 @@ impl Dd {
             sys.passenger_potential(&st.q) + mem.end.driver_potential_and_constraint(sys, st).0;
         let q0 = st.q;
         // Gonzalez's correction makes the Jacobian dense unless V is quadratic.
-        let diagonal = S::QUADRATIC_PASSENGER && S::QUADRATIC_DRIVER;
+        let diagonal = sys.quadratic_passenger() && sys.quadratic_driver();
         let gradient = |dq: &Vector<N>, mid: &DriverTerms<N, R>, end: &mut AngleTracker| {
             discrete_gradient(sys, (&q0, v_q0), dq, h, mid, end)
         };

@@ -78,7 +78,7 @@ fn avf_gradient<S: System<N, R>, const N: usize, const R: usize>(
     mid: &DriverTerms<N, R>,
     end: &mut AngleTracker,
 ) -> (Vector<N>, Matrix<N, N>) {
-    let (mut grad, mut jac) = if S::QUADRATIC_PASSENGER {
+    let (mut grad, mut jac) = if sys.quadratic_passenger() {
         let q_mid = q0 + 0.5 * dq;
         (sys.passenger_gradient(&q_mid), sys.passenger_hessian(&q_mid) * 0.5)
     } else {
@@ -87,7 +87,7 @@ fn avf_gradient<S: System<N, R>, const N: usize, const R: usize>(
             (g + w * sys.passenger_gradient(&q), j + (w * s) * sys.passenger_hessian(&q))
         })
     };
-    let (g, dg) = if S::QUADRATIC_DRIVER {
+    let (g, dg) = if sys.quadratic_driver() {
         (mid.potential_d1, 0.5 * mid.potential_d2)
     } else {
         avf_driver_mean(sys, (q0[N - 1], vd0), dq[N - 1], end)
@@ -142,7 +142,7 @@ impl Integrator for DdAvf {
         mem: &mut DdMemory<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
-        if self.fast_path && closed_form::applies::<S, N, R>() {
+        if self.fast_path && closed_form::applies(sys) {
             return closed_form::step(sys, st, mem, h);
         }
         let q0 = st.q;

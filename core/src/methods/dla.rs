@@ -86,7 +86,7 @@ impl Integrator for Dla {
         let a_qa = sys.constraint(q_a[N - 1]);
         let g0 = mem.gradient(sys, st);
         let v0 = st.v;
-        if self.fast_path && coupled_fast_path::<S, N, R>() {
+        if self.fast_path && coupled_fast_path(sys) {
             return self.step_coupled(sys, st, mem, h, q_a, &a_qa, &g0);
         }
         let g = a_qa.transpose() * (-h);
@@ -110,7 +110,7 @@ impl Integrator for Dla {
                 g,
                 c,
                 b_maybe_bordered: true,
-                affine_but_for_the_driver: S::QUADRATIC_PASSENGER,
+                affine_but_for_the_driver: sys.quadratic_passenger(),
             }
         })?;
         st.advance_to((1.0 - a) * h * st.v + a * h * v1, v1);

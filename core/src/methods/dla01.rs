@@ -70,7 +70,7 @@ impl Integrator for Dla01 {
         let a_half = sys.constraint(q_half[N - 1]);
         let g_half = sys.gradient(&q_half);
         let w = st.v - h * g_half;
-        if self.fast_path && coupled_fast_path::<S, N, R>() {
+        if self.fast_path && coupled_fast_path(sys) {
             // v₁ = w + h A_½ᵀ λ has the driver speed of w (A has no driver column), so ζ₁ is
             // known, and A(ζ₁) v₁ = 0 gives (h A₁ A_½ᵀ) λ = −A₁ w.
             // ζ₁ exactly as the state will hold it (λ does not move ζ), so that the constraint

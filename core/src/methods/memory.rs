@@ -202,10 +202,11 @@ mod tests {
     use crate::methods::dd::DdMemory;
     use crate::methods::rk4::Rk4Memory;
     use crate::methods::{Dd, Dla, Dla01, Integrator, Leapfrog, Rk4};
+    use crate::model::system::BuiltIn;
     use crate::model::systems::{Cvt, CvtPendulum, MobileRobot, Particle};
 
     /// Steps with the method's memory against steps that start each from an empty one.
-    fn remembered_vs_fresh<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
+    fn remembered_vs_fresh<S: BuiltIn<N, R>, M: Integrator, const N: usize, const R: usize>(
         sys: &S,
         m: &M,
         h: f64,

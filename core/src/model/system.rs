@@ -74,16 +74,34 @@ pub struct SystemInfo {
     pub name: &'static str,
     /// One or two sentences.
     pub description: &'static str,
-    /// Parameters, in the order [`System::new`] takes them.
+    /// Parameters, in the order [`BuiltIn::new`] takes them.
     pub params: &'static [ParamSpec],
     /// The integrals (and the constraint diagnostic) it has.
     pub integrals: &'static [Integral],
     /// Presets; the first is the default.
     pub presets: &'static [Preset],
+    /// The system written as formulas (`docs/model.md` §7), its parameters those above.
+    pub formulas: FormulaForm,
+}
+
+/// A built-in system written as formulas, as a user would give it: the same numbers to
+/// round-off (`tests/formula_systems.rs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FormulaForm {
+    /// Passenger coordinate names.
+    pub passenger: &'static [&'static str],
+    /// Driver name.
+    pub driver: &'static str,
+    /// `U(x)`.
+    pub passenger_potential: &'static str,
+    /// `V_d(ζ)`.
+    pub driver_potential: &'static str,
+    /// The passenger columns of `A(ζ)`, row by row.
+    pub constraints: &'static [&'static [&'static str]],
 }
 
 impl SystemInfo {
-    /// The parameter values of `preset`, in the order [`System::new`] takes them: the preset's
+    /// The parameter values of `preset`, in the order [`BuiltIn::new`] takes them: the preset's
     /// own, the rest at their defaults. (A preset names only parameters of its system: a test
     /// in `catalogue::registry` checks every one.) Requests are resolved with checks by
     /// `Scene::resolve`.
@@ -158,14 +176,19 @@ pub fn constraint_force<const N: usize, const R: usize>(
     f
 }
 
-/// A nonholonomically coupled system with `N` coordinates and `R` constraints.
-pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static {
+/// A system compiled into nhlab: its description, and its construction from parameter
+/// values. (A system given as formulas is a [`System`] too, built from its compiled formulas:
+/// `model::custom`.)
+pub trait BuiltIn<const N: usize, const R: usize>: System<N, R> {
     /// Its description.
     fn info() -> &'static SystemInfo;
     /// Builds it from parameter values given in the order of `info().params`, already
     /// checked against their ranges.
     fn new(params: &[f64]) -> Self;
+}
 
+/// A nonholonomically coupled system with `N` coordinates and `R` constraints.
+pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static {
     /// Passenger potential `U(x)` (the driver's slot of `q` is ignored).
     fn passenger_potential(&self, q: &Vector<N>) -> f64;
     /// `∇U`, with a zero driver component.
@@ -188,15 +211,23 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     /// of `docs/model.md` §1. The coupled fast paths of the implicit methods rely on it (with the
     /// driver solved alone, the passenger update is then one linear solve), and DD and DD-AVF
     /// skip what it makes zero in their discrete gradients. Checked in `tests/derivatives.rs`.
-    const QUADRATIC_PASSENGER: bool = false;
+    /// A method of `&self` rather than a constant, as a system given as formulas knows it
+    /// only once compiled; a built-in's answer is a constant the compiler folds.
+    fn quadratic_passenger(&self) -> bool {
+        false
+    }
     /// Whether `V_d` is quadratic in ζ (`V_d'` affine, `V_d''` constant; zero counts). The
     /// driver's equation of DLA^α's coupled fast path is then affine, and one Newton step
     /// solves it exactly, without a second one to confirm it; with a quadratic U too, DD's and
     /// DD-AVF's discrete gradients are `∇V(q̄)` (up to DD's rounding term).
-    const QUADRATIC_DRIVER: bool = false;
+    fn quadratic_driver(&self) -> bool {
+        false
+    }
     /// Whether the passenger feels no potential (`U ≡ 0`). DD's step then reduces to one
     /// equation in the driver's speed (`methods::dd::reduced`). Checked in `tests/derivatives.rs`.
-    const FREE_PASSENGER: bool = false;
+    fn free_passenger(&self) -> bool {
+        false
+    }
     /// Whether ζ is an angle: `A` and `V_d` are 2π-periodic in it (U never depends on ζ).
     /// The reference solve then keeps ζ near 0 by whole turns, which keeps its rounding small.
     const ZETA_IS_ANGLE: bool = false;

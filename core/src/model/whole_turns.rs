@@ -68,7 +68,8 @@ const MAX_TURNS: f64 = (1u64 << 26) as f64;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::System;
+    use crate::model::system::BuiltIn;
+
     use crate::methods::integrator::Integrator;
     use crate::model::systems::CvtPendulum;
 

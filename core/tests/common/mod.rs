@@ -2,7 +2,8 @@
 //! the comparison of one step of two methods from the same state.
 #![allow(dead_code)] // each test file uses a different subset
 
-use nhlab_core::{State, System, Vector};
+use nhlab_core::BuiltIn;
+use nhlab_core::{State, Vector};
 
 /// `nhlab_core::for_each_system!`, callable unqualified from every test file.
 #[macro_export]
@@ -18,7 +19,7 @@ pub fn size<const N: usize, const R: usize>(st: &State<N, R>) -> f64 {
 }
 
 /// `system/preset method`: the case a test's line or failure is about.
-pub fn case<S: System<N, R>, const N: usize, const R: usize>(
+pub fn case<S: BuiltIn<N, R>, const N: usize, const R: usize>(
     preset: usize,
     method: &str,
 ) -> String {
@@ -56,7 +57,7 @@ pub fn worst_step_difference<M: Copy, const N: usize, const R: usize>(
 }
 
 /// The system built from preset `index` (params applied) and its start state.
-pub fn preset_start<S: System<N, R>, const N: usize, const R: usize>(
+pub fn preset_start<S: BuiltIn<N, R>, const N: usize, const R: usize>(
     index: usize,
 ) -> (S, State<N, R>, f64) {
     let info = S::info();

@@ -50,7 +50,7 @@ impl Caches {
 /// The start of a scene: what its latitude axis depends on.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct SceneKey {
-    system: &'static str,
+    system: String,
     params: Vec<u64>,
     q: Vec<u64>,
     v: Vec<u64>,
@@ -61,7 +61,7 @@ impl SceneKey {
     pub fn of(scene: &Scene) -> Self {
         let bits = |x: &[f64]| x.iter().map(|x| x.to_bits()).collect();
         Self {
-            system: scene.system.info().id,
+            system: scene.system.key(),
             params: bits(&scene.params),
             q: bits(&scene.q),
             v: bits(&scene.v),

@@ -44,7 +44,7 @@ impl Plan {
         delivery: Delivery,
     ) -> Result<Self, AppError> {
         let axis = |scene: &Scene| caches.latitude(scene);
-        let scene = Scene::resolve(&req.scene_request())?;
+        let scene = Scene::resolve_within(&req.scene_request(), &config.formulas)?;
         check_steps(&scene, config, delivery)?;
         let methods = methods(req.methods.as_deref(), config)?;
         let points = points(req.points, config)?;

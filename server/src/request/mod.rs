@@ -3,7 +3,8 @@
 //! the [`MethodRequest`] they share. They are plain serde types; reading a body into one (its
 //! size, its shape, the error responses) is [`JsonObject`](crate::JsonObject)'s work, and
 //! checking its values against the core and the limits is [`Plan`](crate::Plan)'s. Only
-//! `system` is required in a scene.
+//! `system` is required in a scene: a built-in's id or a system given as formulas
+//! ([`SystemField`]).
 
 mod method_request;
 mod objects;
@@ -12,6 +13,7 @@ mod scene_spec;
 pub(crate) mod schemas;
 mod scorecard_request;
 mod simulate_request;
+mod system_field;
 mod work_precision_request;
 
 pub use method_request::MethodRequest;
@@ -21,4 +23,5 @@ pub use scene_spec::SceneSpec;
 pub use scorecard_request::ScorecardRequest;
 pub use simulate_request::SimulateRequest;
 pub(crate) use simulate_request::scene_body;
+pub use system_field::{FormulaSystem, SystemField};
 pub use work_precision_request::WorkPrecisionRequest;

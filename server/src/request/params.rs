@@ -32,6 +32,17 @@ impl<'de> Deserialize<'de> for Params {
     }
 }
 
+impl serde::Serialize for Params {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = s.serialize_map(Some(self.0.len()))?;
+        for (name, value) in &self.0 {
+            map.serialize_entry(name, value)?;
+        }
+        map.end()
+    }
+}
+
 impl FromIterator<(String, f64)> for Params {
     fn from_iter<I: IntoIterator<Item = (String, f64)>>(iter: I) -> Self {
         Self(iter.into_iter().collect())

@@ -35,6 +35,13 @@ pub(crate) fn system_id() -> ObjectBuilder {
         .description(Some("System id (see GET /systems)"))
 }
 
+/// `system`: a system id, or a system given as formulas.
+pub(crate) fn system() -> OneOfBuilder {
+    OneOfBuilder::new()
+        .item(system_id())
+        .item(<crate::request::FormulaSystem as utoipa::PartialSchema>::schema())
+}
+
 /// `preset`: one of the presets of any system (each system has its own; see GET /systems).
 pub(crate) fn preset_id() -> ObjectBuilder {
     let mut ids: Vec<&'static str> =

@@ -21,9 +21,9 @@ macro_rules! scene_body {
         #[derive(Debug, Clone, Default, PartialEq, serde::Deserialize, utoipa::ToSchema)]
         #[serde(deny_unknown_fields)]
         pub struct $name {
-            /// System id (see `GET /systems`).
-            #[schema(schema_with = $crate::request::schemas::system_id)]
-            pub system: String,
+            /// System id (see `GET /systems`), or a system given as formulas.
+            #[schema(schema_with = $crate::request::schemas::system)]
+            pub system: $crate::request::SystemField,
             /// Preset id; fills params, q, v, step and t_end (default: the system's first
             /// preset).
             #[serde(default)]
@@ -62,7 +62,7 @@ macro_rules! scene_body {
             /// The scene, for the core to resolve.
             pub fn scene_request(&self) -> nhlab_core::SceneRequest {
                 nhlab_core::SceneRequest {
-                    system: self.system.clone(),
+                    system: self.system.request(),
                     preset: self.preset.clone(),
                     params: self.params.iter().flat_map(|p| p.0.iter()).cloned().collect(),
                     q: self.q.clone(),

@@ -85,7 +85,7 @@ fn plans(req: &ScorecardRequest, state: &AppState) -> Result<(Vec<Plan>, u64), A
         None => PAPER_SCENES
             .iter()
             .map(|(system, preset)| SceneSpec {
-                system: (*system).to_owned(),
+                system: (*system).into(),
                 preset: Some((*preset).to_owned()),
                 ..SceneSpec::default()
             })
@@ -174,7 +174,12 @@ async fn run(
         })?;
         for (method, m) in plan.scene.methods.iter().zip(measured) {
             let m = m.ok_or_else(|| AppError::internal("the scorecard was cancelled"))?;
-            properties.push(PropertiesView::of(method.clone(), &plan.scene.system, &id, m));
+            properties.push(PropertiesView::of(
+                method.clone(),
+                &plan.scene.system.to_string(),
+                &id,
+                m,
+            ));
         }
         scenes.push(ScorecardScene { id, scene: plan.scene.clone(), runs: out });
     }
@@ -191,7 +196,7 @@ async fn run(
 fn scene_ids(plans: &[Plan]) -> Vec<String> {
     let mut ids: Vec<String> = Vec::with_capacity(plans.len());
     for (i, plan) in plans.iter().enumerate() {
-        let id = format!("{}/{}", plan.scene.system, plan.scene.preset);
+        let id = plan.scene.label();
         ids.push(if ids.contains(&id) { format!("{id}#{i}") } else { id });
     }
     ids

@@ -57,9 +57,8 @@ pub async fn simulate(
     };
     let scene = &plan.scene;
     let summary = format!(
-        "{}/{} steps={} methods={} {:?}",
-        scene.system,
-        scene.preset,
+        "{} steps={} methods={} {:?}",
+        scene.label(),
         scene.steps,
         scene.methods.len(),
         delivery

@@ -17,6 +17,7 @@
 use crate::compute::{
     Caches, Cancel, Delivery, KEPT_BYTES_PER_POINT, Plan, ReferenceKey, Slot, lower_priority,
 };
+use crate::config::Config;
 use crate::error::{AppError, ErrorBody};
 use crate::json_object::JsonObject;
 use crate::request::{SimulateRequest, WorkPrecisionRequest};
@@ -70,9 +71,8 @@ pub async fn work_precision(
     tracing::Span::current().record(
         "scene",
         format!(
-            "work-precision {}/{} steps={:?} methods={} repeats={}",
-            job.plan.scene.system,
-            job.plan.scene.preset,
+            "work-precision {} steps={:?} methods={} repeats={}",
+            job.plan.scene.label(),
             job.steps,
             job.plan.methods.len(),
             job.repeats
@@ -99,7 +99,7 @@ impl Job {
             // The scene's own step is not run: the largest step asked for stands in for it,
             // once the steps are checked against t_end (the preset's step might not even fit
             // a short t_end, and the error would name the wrong field).
-            let t_end = scene_t_end(&sim)?;
+            let t_end = scene_t_end(&sim, &state.config)?;
             sim.step = given_steps(steps, t_end)?.into_iter().reduce(f64::max);
         }
         let plan = Plan::resolve(&sim, &state.config, &state.caches, Delivery::JsonOnly)?;
@@ -142,10 +142,10 @@ impl Job {
 }
 
 /// The t_end `sim` resolves to, whatever its step.
-fn scene_t_end(sim: &SimulateRequest) -> Result<f64, AppError> {
+fn scene_t_end(sim: &SimulateRequest, config: &Config) -> Result<f64, AppError> {
     // Any step that fits every t_end: only t_end is wanted here.
-    let scene =
-        Scene::resolve(&SceneRequest { step: Some(f64::MIN_POSITIVE), ..sim.scene_request() })?;
+    let req = SceneRequest { step: Some(f64::MIN_POSITIVE), ..sim.scene_request() };
+    let scene = Scene::resolve_within(&req, &config.formulas)?;
     Ok(scene.t_end)
 }
 

@@ -1,6 +1,7 @@
 //! [`SceneView`]: the resolved scene as the API reports it (the JSON response's `scene`, the
 //! stream's `scene` event): every field after presets and defaults were applied.
 
+use crate::request::{FormulaSystem, SystemField};
 use crate::views::MethodView;
 use nhlab_core::{Method, PreparedScene};
 use serde::Serialize;
@@ -10,10 +11,11 @@ use utoipa::ToSchema;
 /// A resolved scene.
 #[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
 pub struct SceneView {
-    /// System id.
-    pub system: String,
-    /// The preset it started from.
-    pub preset: String,
+    /// System id, or the system given as formulas (its parameters at their values here).
+    #[schema(schema_with = crate::request::schemas::system)]
+    pub system: SystemField,
+    /// The preset it started from (null for a system given as formulas).
+    pub preset: Option<String>,
     /// Every parameter of the system with its value.
     pub params: BTreeMap<String, f64>,
     /// Initial configuration.
@@ -35,12 +37,23 @@ pub struct SceneView {
 }
 
 impl SceneView {
+    /// `system/preset`, or the name of a system given as formulas: for ids, logs and labels.
+    pub fn label(&self) -> String {
+        match &self.preset {
+            Some(preset) => format!("{}/{preset}", self.system),
+            None => self.system.to_string(),
+        }
+    }
+
     /// The view of a prepared scene run with `methods` and `points`.
     pub fn of(prepared: &PreparedScene, methods: &[Method], points: usize) -> Self {
         let scene = &prepared.scene;
         Self {
-            system: scene.system.info().id.to_owned(),
-            preset: scene.preset.to_owned(),
+            system: match scene.system.custom() {
+                None => SystemField::Id(scene.system.id().to_owned()),
+                Some(c) => SystemField::Formulas(Box::new(FormulaSystem::of(&c.spec))),
+            },
+            preset: scene.preset.map(str::to_owned),
             params: scene.named_params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect(),
             q: scene.q.clone(),
             v: scene.v.clone(),

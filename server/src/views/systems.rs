@@ -4,8 +4,11 @@
 //! server's limits.
 
 use crate::config::Config;
+use crate::request::FormulaSystem;
 use crate::views::MethodView;
-use nhlab_core::{Method, PAPER_SCENES, ParamSpec, Preset, SYSTEMS, SystemEntry, method_infos};
+use nhlab_core::{
+    FormulaSpec, Method, PAPER_SCENES, ParamSpec, Preset, SYSTEMS, SystemEntry, method_infos,
+};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use utoipa::ToSchema;
@@ -53,6 +56,10 @@ pub struct SystemView {
     pub integrals: Vec<String>,
     /// Its presets; the first is the default.
     pub presets: Vec<PresetView>,
+    /// The same system written as formulas, its parameters at their defaults: a request
+    /// may send it as `system` (with q and v) and get the same numbers; a starting point
+    /// for a system of one's own.
+    pub formulas: FormulaSystem,
 }
 
 /// A parameter of a system or a method.
@@ -125,6 +132,12 @@ pub struct LimitsView {
     pub max_body_bytes: usize,
     /// Most simulations computing at once (more get 503 with `Retry-After`).
     pub max_simulations: usize,
+    /// Most characters per formula of a system given as formulas.
+    pub formula_chars: usize,
+    /// Deepest nesting in a formula.
+    pub formula_depth: usize,
+    /// Most parameters of a system given as formulas.
+    pub formula_parameters: usize,
 }
 
 fn bound(x: f64) -> Option<f64> {
@@ -171,6 +184,7 @@ impl SystemView {
             params: info.params.iter().map(ParamView::of).collect(),
             integrals: info.integrals.iter().map(|i| i.id().to_owned()).collect(),
             presets: info.presets.iter().map(PresetView::of).collect(),
+            formulas: FormulaSystem::of(&FormulaSpec::of(info)),
         }
     }
 }
@@ -206,6 +220,9 @@ impl SystemsResponse {
                 max_methods: config.max_methods,
                 max_body_bytes: config.max_body_bytes,
                 max_simulations: config.max_simulations,
+                formula_chars: config.formulas.formula.max_chars,
+                formula_depth: config.formulas.formula.max_depth,
+                formula_parameters: config.formulas.max_parameters,
             },
         }
     }

@@ -46,8 +46,8 @@ use crate::solver::linalg;
 /// Whether the closed form and the exact end apply: V quadratic (then the discrete gradient
 /// is `∇V(q̄)` and both residuals are affine) on a system whose passenger kernel
 /// `passenger_kernel` covers.
-pub(crate) const fn applies<S: System<N, R>, const N: usize, const R: usize>() -> bool {
-    S::QUADRATIC_PASSENGER && S::QUADRATIC_DRIVER && passenger_kernel::covers::<N, R>()
+pub(crate) fn applies<S: System<N, R>, const N: usize, const R: usize>(sys: &S) -> bool {
+    sys.quadratic_passenger() && sys.quadratic_driver() && passenger_kernel::covers::<N, R>()
 }
 
 /// One DD step in closed form, where it [`applies`]. In doubles:
@@ -231,13 +231,14 @@ fn finish_with<S: System<N, R>, const N: usize, const R: usize, P: Products>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::system::BuiltIn;
     use crate::methods::integrator::Integrator;
     use crate::methods::{Dd, Memory};
     use crate::model::systems::{Cvt, KnifeEdge, RollingDisk};
 
     /// Both products are exact, so the two ends are the same to the bit: the one this machine
     /// does not take at run time is checked against the one it does.
-    fn same_end_with_either_product<S: System<N, R>, const N: usize, const R: usize>(sys: &S) {
+    fn same_end_with_either_product<S: BuiltIn<N, R>, const N: usize, const R: usize>(sys: &S) {
         let p = &S::info().presets[0];
         let (q, v) = (Vector::from_column_slice(p.q), Vector::from_column_slice(p.v));
         let mut st = State::with_continuous_multiplier(sys, q, v).unwrap();

@@ -87,11 +87,12 @@ impl<const N: usize> DriverHistory<N> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::system::BuiltIn;
     use crate::methods::integrator::Integrator;
     use crate::methods::dd::DdMemory;
     use crate::methods::{Dd, DdAvf, Memory};
     use crate::model::systems::{CvtPendulum, MobileRobot, Particle};
-    use crate::{NewtonConfig, State, System};
+    use crate::{NewtonConfig, State};
 
     #[test]
     fn extrapolates_a_cubic_exactly_and_forgets_a_moved_driver() {
@@ -117,7 +118,7 @@ mod tests {
 
     fn falls_back_to_euler<S, M, const N: usize, const R: usize>(sys: &S, preset: usize, m: &M)
     where
-        S: System<N, R>,
+        S: BuiltIn<N, R>,
         M: Integrator<Memory<N, R> = DdMemory<N, R>>,
     {
         let p = &S::info().presets[preset];
@@ -157,7 +158,7 @@ mod tests {
         steps: usize,
     ) -> (f64, usize)
     where
-        S: System<N, R>,
+        S: BuiltIn<N, R>,
         M: Integrator<Memory<N, R> = DdMemory<N, R>>,
     {
         let p = &S::info().presets[0];

@@ -37,7 +37,7 @@ pub(crate) fn discrete_gradient<S: System<N, R>, const N: usize, const R: usize>
     let du = (Matrix::<N, N>::identity() - 2.0 * (dq * u.transpose())) * (0.5 * h / dq2);
     let mut jac = hess_mid * (0.25 * h) + du * c;
     // dc/dq̇₁ = (h/2) [∇V(q₁) − ∇V(q̄) − ½ ∇²V(q̄) Δq]
-    if S::QUADRATIC_PASSENGER {
+    if sys.quadratic_passenger() {
         let dz = dq[N - 1];
         let dc = (at_q1.potential_d1 - mid.potential_d1 - 0.5 * mid.potential_d2 * dz) * (0.5 * h);
         for i in 0..N {
@@ -94,7 +94,7 @@ fn gonzalez_value<S: System<N, R>, const N: usize, const R: usize>(
     }
     let q1 = q0 + dq;
     let u = dq / dq2;
-    if S::QUADRATIC_PASSENGER && S::QUADRATIC_DRIVER {
+    if sys.quadratic_passenger() && sys.quadratic_driver() {
         let c = sys.potential(&q1) - v_q0 - g_mid.dot(dq);
         return GonzalezValue { gradient: g_mid + c * u, q_mid, g_mid, correction: None };
     }

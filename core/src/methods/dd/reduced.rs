@@ -6,7 +6,7 @@
 //! `A(ζ̄) = [A_x(ζ̄) | 0]`, which on a coupled system is spanned by `(k̃(ζ̄), 0)` and the
 //! driver's axis (`docs/model.md` §1): `s = (w k̃, σ)`, `ζ̄ = ζ₀ + hσ/4`, `ζ₁ = ζ₀ + hσ/2`.
 //! Projecting the momentum equation `s − 2q̇₀ + h∇̄V = h A(q̄)ᵀλ` on those two directions removes
-//! λ. Where the passenger feels no potential (U ≡ 0, [`System::FREE_PASSENGER`]) Gonzalez's
+//! λ. Where the passenger feels no potential (U ≡ 0, [`System::free_passenger`]) Gonzalez's
 //! gradient is `V_d'(ζ̄) e_ζ + 2c s/(h|s|²)` with `c = V_d(ζ₁) − V_d(ζ₀) − V_d'(ζ̄) hσ/2`, a
 //! function of σ alone, and the two projections read
 //!
@@ -51,8 +51,8 @@ use crate::solver::linalg;
 /// mobile robot. This solve is less than 2× faster than its general one, the least a fast
 /// path must gain, and is kept because without it DD on the mobile robot misses its speed
 /// target (`docs/performance.md`).
-pub(crate) const fn applies<S: System<N, R>, const N: usize, const R: usize>() -> bool {
-    S::FREE_PASSENGER && !S::QUADRATIC_DRIVER && R == 2 && passenger_kernel::covers::<N, R>()
+pub(crate) fn applies<S: System<N, R>, const N: usize, const R: usize>(sys: &S) -> bool {
+    sys.free_passenger() && !sys.quadratic_driver() && R == 2 && passenger_kernel::covers::<N, R>()
 }
 
 /// Largest last Newton increment in σ (relative to `1 + |σ|`) that the step's end takes

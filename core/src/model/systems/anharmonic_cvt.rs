@@ -6,7 +6,7 @@
 
 use super::CvtPendulum;
 use super::cvt_pendulum::{EPSILON, V_OSC, V_ROT, paper};
-use crate::model::system::{DriverTerms, ParamSpec, System, SystemInfo};
+use crate::model::system::{BuiltIn, FormulaForm, DriverTerms, ParamSpec, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 
 /// The CVT with a pendulum driver perturbed by `ε` and a passenger potential stiffened by `κ`.
@@ -45,7 +45,13 @@ static INFO: SystemInfo = SystemInfo {
         paper("rotating", "Rotating driver, ε = 0", 0.0, V_ROT),
         paper("oscillating-perturbed", "Oscillating driver, ε = 0.5", 0.5, V_OSC),
         paper("rotating-perturbed", "Rotating driver, ε = 0.5", 0.5, V_ROT),
-    ],
+    ],    formulas: FormulaForm {
+        passenger: &["x1", "x2"],
+        driver: "zeta",
+        passenger_potential: "(x1^2 + x2^2)/2 + kappa*(x1^2 + x2^2)^2/4",
+        driver_potential: "1 - cos(zeta) - epsilon*sin(2*zeta)/2",
+        constraints: &[&["1", "sin(zeta)"]],
+    },
 };
 
 impl AnharmonicCvt {
@@ -56,14 +62,17 @@ impl AnharmonicCvt {
     }
 }
 
-impl System<3, 1> for AnharmonicCvt {
-    const ZETA_IS_ANGLE: bool = true;
+impl BuiltIn<3, 1> for AnharmonicCvt {
     fn info() -> &'static SystemInfo {
         &INFO
     }
     fn new(params: &[f64]) -> Self {
         Self { epsilon: params[0], kappa: params[1] }
     }
+}
+
+impl System<3, 1> for AnharmonicCvt {
+    const ZETA_IS_ANGLE: bool = true;
     fn passenger_potential(&self, q: &Vector<3>) -> f64 {
         let r2 = q[0] * q[0] + q[1] * q[1];
         0.5 * r2 + 0.25 * self.kappa * r2 * r2

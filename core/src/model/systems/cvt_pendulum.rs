@@ -4,7 +4,7 @@
 //! the printed potential lacks the `1 −`), constraint `ẋ₁ + sin ζ ẋ₂ = 0`. ε ≠ 0 breaks the
 //! driver's reversibility; the driver oscillates or rotates depending on its energy.
 
-use crate::model::system::{DriverTerms, ParamSpec, Preset, System, SystemInfo};
+use crate::model::system::{BuiltIn, FormulaForm, DriverTerms, ParamSpec, Preset, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 
 /// The CVT with a pendulum driver perturbed by `ε`.
@@ -60,7 +60,13 @@ static INFO: SystemInfo = SystemInfo {
         paper("rotating", "Paper: rotating driver, ε = 0", 0.0, V_ROT),
         paper("oscillating-perturbed", "Paper: oscillating driver, ε = 0.5", 0.5, V_OSC),
         paper("rotating-perturbed", "Paper: rotating driver, ε = 0.5", 0.5, V_ROT),
-    ],
+    ],    formulas: FormulaForm {
+        passenger: &["x1", "x2"],
+        driver: "zeta",
+        passenger_potential: "(x1^2 + x2^2)/2",
+        driver_potential: "1 - cos(zeta) - epsilon*sin(2*zeta)/2",
+        constraints: &[&["1", "sin(zeta)"]],
+    },
 };
 
 impl CvtPendulum {
@@ -72,15 +78,20 @@ impl CvtPendulum {
     }
 }
 
-impl System<3, 1> for CvtPendulum {
-    const QUADRATIC_PASSENGER: bool = true;
-    const ZETA_IS_ANGLE: bool = true;
+impl BuiltIn<3, 1> for CvtPendulum {
     fn info() -> &'static SystemInfo {
         &INFO
     }
     fn new(params: &[f64]) -> Self {
         Self { epsilon: params[0] }
     }
+}
+
+impl System<3, 1> for CvtPendulum {
+    fn quadratic_passenger(&self) -> bool {
+        true
+    }
+    const ZETA_IS_ANGLE: bool = true;
     fn passenger_potential(&self, q: &Vector<3>) -> f64 {
         0.5 * (q[0] * q[0] + q[1] * q[1])
     }

@@ -4,7 +4,7 @@
 //! potential, constraint `−sin ζ ẋ₁ + (cos ζ − ε) ẋ₂ = 0`. The perturbation ε breaks the
 //! reversibility that the paper credits for near conservation; |ε| < 1 keeps A of full rank.
 
-use crate::model::system::{DriverTerms, ParamSpec, Preset, System, SystemInfo};
+use crate::model::system::{BuiltIn, FormulaForm, DriverTerms, ParamSpec, Preset, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -53,19 +53,32 @@ static INFO: SystemInfo = SystemInfo {
             step: PI / 10.0,
             t_end: 100.0,
         },
-    ],
+    ],    formulas: FormulaForm {
+        passenger: &["x1", "x2"],
+        driver: "zeta",
+        passenger_potential: "-x1",
+        driver_potential: "0",
+        constraints: &[&["-sin(zeta)", "cos(zeta) - epsilon"]],
+    },
 };
 
-impl System<3, 1> for KnifeEdge {
-    const QUADRATIC_PASSENGER: bool = true;
-    const QUADRATIC_DRIVER: bool = true;
-    const ZETA_IS_ANGLE: bool = true;
+impl BuiltIn<3, 1> for KnifeEdge {
     fn info() -> &'static SystemInfo {
         &INFO
     }
     fn new(params: &[f64]) -> Self {
         Self { epsilon: params[0] }
     }
+}
+
+impl System<3, 1> for KnifeEdge {
+    fn quadratic_passenger(&self) -> bool {
+        true
+    }
+    fn quadratic_driver(&self) -> bool {
+        true
+    }
+    const ZETA_IS_ANGLE: bool = true;
     fn passenger_potential(&self, q: &Vector<3>) -> f64 {
         -q[0]
     }

@@ -4,7 +4,7 @@
 //! driver is no longer uniform.
 
 use super::rolling_disk::{DISK_INTEGRALS, disk_kernel, disk_terms};
-use crate::model::system::{DriverTerms, Preset, System, SystemInfo};
+use crate::model::system::{BuiltIn, FormulaForm, DriverTerms, Preset, System, SystemInfo};
 use crate::{Matrix, Vector};
 
 /// The mobile robot (no parameters).
@@ -25,19 +25,32 @@ static INFO: SystemInfo = SystemInfo {
         v: &[-1.0, 0.0, 1.0, 1.0],
         step: 0.1,
         t_end: 100.0,
-    }],
+    }],    formulas: FormulaForm {
+        passenger: &["x1", "x2", "phi"],
+        driver: "zeta",
+        passenger_potential: "0",
+        driver_potential: "sin(zeta)",
+        constraints: &[&["1", "0", "cos(zeta)"], &["0", "1", "sin(zeta)"]],
+    },
 };
 
-impl System<4, 2> for MobileRobot {
-    const QUADRATIC_PASSENGER: bool = true;
-    const FREE_PASSENGER: bool = true;
-    const ZETA_IS_ANGLE: bool = true;
+impl BuiltIn<4, 2> for MobileRobot {
     fn info() -> &'static SystemInfo {
         &INFO
     }
     fn new(_params: &[f64]) -> Self {
         Self
     }
+}
+
+impl System<4, 2> for MobileRobot {
+    fn quadratic_passenger(&self) -> bool {
+        true
+    }
+    fn free_passenger(&self) -> bool {
+        true
+    }
+    const ZETA_IS_ANGLE: bool = true;
     fn passenger_potential(&self, _q: &Vector<4>) -> f64 {
         0.0
     }

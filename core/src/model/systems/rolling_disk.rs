@@ -5,7 +5,7 @@
 //! `ẋ₁ + cos ζ φ̇ = 0`, `ẋ₂ + sin ζ φ̇ = 0`. No potential, so the heading turns uniformly and
 //! the disk runs on a circle: an exact solution for the convergence tests.
 
-use crate::model::system::{DriverTerms, Preset, System, SystemInfo};
+use crate::model::system::{BuiltIn, FormulaForm, DriverTerms, Preset, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 
 /// The vertical rolling disk (no parameters).
@@ -48,20 +48,35 @@ static INFO: SystemInfo = SystemInfo {
         v: &[-1.0, 0.0, 1.0, 1.0],
         step: 0.1,
         t_end: 100.0,
-    }],
+    }],    formulas: FormulaForm {
+        passenger: &["x1", "x2", "phi"],
+        driver: "zeta",
+        passenger_potential: "0",
+        driver_potential: "0",
+        constraints: &[&["1", "0", "cos(zeta)"], &["0", "1", "sin(zeta)"]],
+    },
 };
 
-impl System<4, 2> for RollingDisk {
-    const QUADRATIC_PASSENGER: bool = true;
-    const FREE_PASSENGER: bool = true;
-    const QUADRATIC_DRIVER: bool = true;
-    const ZETA_IS_ANGLE: bool = true;
+impl BuiltIn<4, 2> for RollingDisk {
     fn info() -> &'static SystemInfo {
         &INFO
     }
     fn new(_params: &[f64]) -> Self {
         Self
     }
+}
+
+impl System<4, 2> for RollingDisk {
+    fn quadratic_passenger(&self) -> bool {
+        true
+    }
+    fn free_passenger(&self) -> bool {
+        true
+    }
+    fn quadratic_driver(&self) -> bool {
+        true
+    }
+    const ZETA_IS_ANGLE: bool = true;
     fn passenger_potential(&self, _q: &Vector<4>) -> f64 {
         0.0
     }

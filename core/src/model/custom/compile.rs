@@ -1,0 +1,375 @@
+//! [`Compiled`]: a [`FormulaSpec`] checked (names, sizes, which formula may name what),
+//! parsed with its parameters' values in place, differentiated symbolically (∇U, ∇²U, V_d′,
+//! V_d″, dA/dζ) and compiled into tapes; with what the methods' fast paths ask of a system
+//! (U or V_d quadratic, U absent) read off the derivatives, which are then constants.
+
+use super::spec::{CustomLimits, FormulaSpec, MAX_PASSENGERS};
+use crate::InputError;
+use crate::formula::derive::Derivative;
+use crate::formula::graph::Node;
+use crate::formula::parse::{Name, Names, parse};
+use crate::formula::{Func, Graph, Id, Tape};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The passenger potential, compiled.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Passenger {
+    /// `U = u₀ + b·x + ½ xᵀH x` (every second derivative a constant).
+    Quadratic {
+        /// `U(0)`.
+        u0: f64,
+        /// `∇U(0)`.
+        b: Vec<f64>,
+        /// `∇²U`, n×n, row by row.
+        h: Vec<f64>,
+    },
+    /// Anything else: tapes for U, ∇U and ∇²U (upper triangle, row by row).
+    General {
+        /// `U`.
+        u: Tape,
+        /// `∇U`.
+        gradient: Tape,
+        /// `∇²U`'s upper triangle.
+        hessian: Tape,
+    },
+}
+
+/// A system given as formulas, ready to run; see the module's doc.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Compiled {
+    /// Passenger coordinates n (the system has n + 1).
+    pub n: usize,
+    /// Constraints r.
+    pub r: usize,
+    /// The parameters' values, in the spec's order.
+    pub values: Vec<f64>,
+    /// U.
+    pub passenger: Passenger,
+    /// `[V_d, V_d′, V_d″, A (r×n, row by row), dA/dζ (likewise)]` at ζ.
+    pub driver: Tape,
+    /// Identifies this compilation in the per-thread cache of driver terms.
+    pub(crate) id: u64,
+    /// ∇²U constant.
+    pub quadratic_passenger: bool,
+    /// V_d″ constant.
+    pub quadratic_driver: bool,
+    /// ∇U ≡ 0.
+    pub free_passenger: bool,
+    /// V_d and A are 2π-periodic in ζ (ζ enters only through sin, cos and tan of integer
+    /// multiples of it, plus constants).
+    pub periodic: bool,
+    /// The latitude's definition holds (`docs/model.md` §5): two passengers, one
+    /// constraint, `U = ½|x|²` up to a constant.
+    pub latitude: bool,
+}
+
+static NEXT_ID: AtomicU64 = AtomicU64::new(1);
+
+fn bad(field: impl Into<String>, message: impl Into<String>) -> InputError {
+    InputError::CustomSystem { field: field.into(), message: message.into() }
+}
+
+/// Whether `name` can name a coordinate or parameter.
+fn is_identifier(name: &str) -> bool {
+    let mut chars = name.chars();
+    chars.next().is_some_and(|c| c.is_alphabetic() || c == '_')
+        && chars.all(|c| c.is_alphanumeric() || c == '_')
+        && name != "pi"
+        && Func::named(name).is_none()
+}
+
+/// The names of one formula: which are variables, which parameters, which refused.
+struct Scope<'a> {
+    spec: &'a FormulaSpec,
+    values: &'a [f64],
+    /// Whether the passenger coordinates are this formula's variables (else the driver is).
+    passenger: bool,
+    /// Why the other kind of coordinate is refused.
+    refusal: &'a str,
+}
+
+impl Names for Scope<'_> {
+    fn resolve(&self, name: &str) -> Option<Name> {
+        if let Some(i) = self.spec.parameters.iter().position(|(p, _)| p == name) {
+            return Some(Name::Value(self.values[i]));
+        }
+        if let Some(i) = self.spec.passenger.iter().position(|p| p == name) {
+            return Some(if self.passenger { Name::Var(i as u16) } else { self.refused(name) });
+        }
+        if self.spec.driver == name {
+            return Some(if self.passenger { self.refused(name) } else { Name::Var(0) });
+        }
+        None
+    }
+    fn allowed(&self) -> String {
+        let mut names: Vec<&str> = if self.passenger {
+            self.spec.passenger.iter().map(String::as_str).collect()
+        } else {
+            vec![self.spec.driver.as_str()]
+        };
+        names.extend(self.spec.parameters.iter().map(|(p, _)| p.as_str()));
+        format!("it may name {} and pi", names.join(", "))
+    }
+}
+
+impl Scope<'_> {
+    fn refused(&self, name: &str) -> Name {
+        let kind = if self.passenger { "the driver" } else { "a passenger coordinate" };
+        Name::Forbidden(format!("'{name}' is {kind}; {}", self.refusal))
+    }
+}
+
+impl Compiled {
+    /// Checks and compiles `spec` with its parameters overridden by `overrides` (field
+    /// `params.NAME`). Errors name the field under `system.`.
+    pub fn new(
+        spec: &FormulaSpec,
+        overrides: &[(String, f64)],
+        limits: &CustomLimits,
+    ) -> Result<Self, InputError> {
+        let (n, r) = check_shape(spec, limits)?;
+        let mut values: Vec<f64> = spec.parameters.iter().map(|p| p.1).collect();
+        for (name, value) in overrides {
+            let field = format!("params.{name}");
+            let Some(i) = spec.parameters.iter().position(|(p, _)| p == name) else {
+                let valid: Vec<&str> = spec.parameters.iter().map(|p| p.0.as_str()).collect();
+                return Err(InputError::UnknownParam {
+                    field,
+                    name: name.clone(),
+                    owner: "the system".into(),
+                    valid: if valid.is_empty() { "none".into() } else { valid.join(", ") },
+                });
+            };
+            if !value.is_finite() {
+                return Err(InputError::NonFinite { field, value: *value });
+            }
+            values[i] = *value;
+        }
+        let lim = &limits.formula;
+        let formula = |g: &mut Graph, field: String, text: &str, scope: &Scope<'_>| {
+            parse(g, text, scope, lim).map_err(|error| InputError::Formula { field, error })
+        };
+        let passenger_scope = Scope {
+            spec,
+            values: &values,
+            passenger: true,
+            refusal: "U may depend on the passenger coordinates and parameters only \
+                      (V = U(x) + V_d(ζ), docs/model.md §1)",
+        };
+        let driver_scope = |refusal| Scope { spec, values: &values, passenger: false, refusal };
+
+        // The passenger: U, ∇U, ∇²U.
+        let mut pg = Graph::new();
+        let u = formula(
+            &mut pg,
+            "system.passenger_potential".into(),
+            &spec.passenger_potential,
+            &passenger_scope,
+        )?;
+        let mut by_var: Vec<Derivative> = (0..n).map(|i| Derivative::new(i as u16)).collect();
+        let gradient: Vec<Id> = by_var.iter_mut().map(|d| d.of(&mut pg, u)).collect();
+        let mut hessian = Vec::new();
+        for (i, &gi) in gradient.iter().enumerate() {
+            for d in &mut by_var[i..] {
+                hessian.push(d.of(&mut pg, gi));
+            }
+        }
+        // The driver: V_d, its derivatives, A and dA/dζ, one graph so that they share work.
+        let mut dg = Graph::new();
+        let vd = formula(
+            &mut dg,
+            "system.driver_potential".into(),
+            &spec.driver_potential,
+            &driver_scope(
+                "V_d may depend on the driver and parameters only (V = U(x) + V_d(ζ), docs/model.md §1)",
+            ),
+        )?;
+        let mut a = Vec::with_capacity(r * n);
+        let a_scope = driver_scope(
+            "the constraints' passenger columns may depend on the driver and parameters only \
+             (A(ζ) in the class of the paper's theory, docs/model.md §1)",
+        );
+        for (i, row) in spec.constraints.iter().enumerate() {
+            for (j, text) in row.iter().enumerate() {
+                a.push(formula(&mut dg, format!("system.constraints[{i}][{j}]"), text, &a_scope)?);
+            }
+        }
+        let mut d = Derivative::new(0);
+        let vd1 = d.of(&mut dg, vd);
+        let vd2 = d.of(&mut dg, vd1);
+        let da: Vec<Id> = a.iter().map(|&e| d.of(&mut dg, e)).collect();
+        if pg.len() + dg.len() > lim.max_nodes {
+            return Err(InputError::Formula {
+                field: "system".into(),
+                error: crate::formula::FormulaError::TooLarge { limit: lim.max_nodes },
+            });
+        }
+
+        let quadratic_passenger = hessian.iter().all(|&h| pg.constant(h).is_some());
+        let free_passenger = gradient.iter().all(|&g| pg.constant(g) == Some(0.0));
+        let passenger = if quadratic_passenger {
+            let zero = vec![0.0; n];
+            let mut h = vec![0.0; n * n];
+            let mut k = 0;
+            for i in 0..n {
+                for j in i..n {
+                    let value = pg.constant(hessian[k]).unwrap_or(f64::NAN);
+                    (h[i * n + j], h[j * n + i]) = (value, value);
+                    k += 1;
+                }
+            }
+            Passenger::Quadratic {
+                u0: pg.eval(u, &zero),
+                b: gradient.iter().map(|&g| pg.eval(g, &zero)).collect(),
+                h,
+            }
+        } else {
+            Passenger::General {
+                u: Tape::compile(&pg, &[u], n),
+                gradient: Tape::compile(&pg, &gradient, n),
+                hessian: Tape::compile(&pg, &hessian, n),
+            }
+        };
+        let latitude = n == 2
+            && r == 1
+            && matches!(&passenger, Passenger::Quadratic { b, h, .. }
+                if b.iter().all(|&x| x == 0.0) && h == &[1.0, 0.0, 0.0, 1.0]);
+        let mut seen = std::collections::HashMap::new();
+        let periodic =
+            std::iter::once(vd).chain(a.iter().copied()).all(|e| periodic(&dg, e, &mut seen));
+        let mut outputs = vec![vd, vd1, vd2];
+        outputs.extend(&a);
+        outputs.extend(&da);
+        Ok(Self {
+            n,
+            r,
+            values,
+            passenger,
+            driver: Tape::compile(&dg, &outputs, 1),
+            id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
+            quadratic_passenger,
+            quadratic_driver: dg.constant(vd2).is_some(),
+            free_passenger,
+            periodic,
+            latitude,
+        })
+    }
+}
+
+/// Sizes and names: n passengers (1 to 6), r constraints (1 to n − 1) of n entries each,
+/// distinct identifiers, at most `max_parameters` parameters with finite values.
+fn check_shape(spec: &FormulaSpec, limits: &CustomLimits) -> Result<(usize, usize), InputError> {
+    let n = spec.passenger.len();
+    if !(1..=MAX_PASSENGERS).contains(&n) {
+        return Err(bad(
+            "system.passenger",
+            format!("a system has 1 to {MAX_PASSENGERS} passenger coordinates, got {n}"),
+        ));
+    }
+    let r = spec.constraints.len();
+    if r == 0 || r >= n {
+        return Err(bad(
+            "system.constraints",
+            format!(
+                "{n} passenger coordinate{} allow 1 to n − 1 = {} constraint rows, got {r}: \
+                 the passengers' constrained motion must keep at least one direction \
+                 (docs/model.md §1)",
+                if n == 1 { "" } else { "s" },
+                n - 1
+            ),
+        ));
+    }
+    for (i, row) in spec.constraints.iter().enumerate() {
+        if row.len() != n {
+            return Err(bad(
+                format!("system.constraints[{i}]"),
+                format!(
+                    "each constraint row has one entry per passenger coordinate ({n}), got {}; \
+                     the driver's column is zero in this class and is not written",
+                    row.len()
+                ),
+            ));
+        }
+    }
+    if spec.parameters.len() > limits.max_parameters {
+        return Err(bad(
+            "system.parameters",
+            format!(
+                "at most {} parameters are allowed, got {}",
+                limits.max_parameters,
+                spec.parameters.len()
+            ),
+        ));
+    }
+    let mut seen: Vec<&str> = Vec::new();
+    let names = spec
+        .passenger
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (format!("system.passenger[{i}]"), p.as_str()))
+        .chain(std::iter::once(("system.driver".to_string(), spec.driver.as_str())))
+        .chain(spec.parameters.iter().map(|(p, _)| (format!("system.parameters.{p}"), p.as_str())));
+    for (field, name) in names {
+        if !is_identifier(name) {
+            return Err(bad(
+                field,
+                format!(
+                    "'{name}' is not a usable name: a name starts with a letter or '_', goes on \
+                     with letters, digits or '_', and is not pi or a function"
+                ),
+            ));
+        }
+        if seen.contains(&name) {
+            return Err(bad(field, format!("'{name}' is named twice")));
+        }
+        seen.push(name);
+    }
+    for (p, value) in &spec.parameters {
+        if !value.is_finite() {
+            return Err(InputError::NonFinite {
+                field: format!("system.parameters.{p}"),
+                value: *value,
+            });
+        }
+    }
+    Ok((n, r))
+}
+
+/// Whether `e` is 2π-periodic in variable 0 by its form: the variable appears only inside
+/// `sin`, `cos` or `tan` of an integer multiple of it plus a constant. Each node is looked
+/// at once (`seen`), as nodes are shared.
+fn periodic(g: &Graph, e: Id, seen: &mut std::collections::HashMap<Id, bool>) -> bool {
+    if let Some(&known) = seen.get(&e) {
+        return known;
+    }
+    let answer = !g.depends_on(e, 0)
+        || match g.node(e) {
+            Node::Call(Func::Sin | Func::Cos | Func::Tan, a) => integer_multiple(g, a),
+            Node::Const(_) | Node::Var(_) => false,
+            Node::Neg(a) | Node::PowI(a, _) | Node::Call(_, a) => periodic(g, a, seen),
+            Node::Add(a, b)
+            | Node::Sub(a, b)
+            | Node::Mul(a, b)
+            | Node::Div(a, b)
+            | Node::Pow(a, b) => periodic(g, a, seen) && periodic(g, b, seen),
+        };
+    seen.insert(e, answer);
+    answer
+}
+
+/// Whether `e` is `kζ + c` with k a nonzero integer and c constant.
+fn integer_multiple(g: &Graph, e: Id) -> bool {
+    let integer = |id: Id| g.constant(id).is_some_and(|k| k.fract() == 0.0 && k != 0.0);
+    match g.node(e) {
+        Node::Var(0) => true,
+        Node::Neg(a) => integer_multiple(g, a),
+        Node::Mul(a, b) => {
+            (integer(a) && integer_multiple(g, b)) || (integer(b) && integer_multiple(g, a))
+        }
+        Node::Add(a, b) | Node::Sub(a, b) => {
+            (integer_multiple(g, a) && !g.depends_on(b, 0))
+                || (integer_multiple(g, b) && !g.depends_on(a, 0))
+        }
+        _ => false,
+    }
+}

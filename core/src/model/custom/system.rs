@@ -1,0 +1,156 @@
+//! [`Custom`]: a compiled system given as formulas, as a [`System`] of fixed sizes.
+//!
+//! Where U is quadratic it is evaluated as `u₀ + b·x + ½ xᵀH x` with fixed-size vectors, as
+//! a built-in's; otherwise through its tapes. The driver's terms come from one tape per ζ
+//! ([`driver_cache`](super::driver_cache)).
+
+use super::compile::{Compiled, Passenger};
+use super::driver_cache::with_driver_terms;
+use crate::model::system::{DriverTerms, System};
+use crate::{Matrix, Vector};
+use std::sync::Arc;
+
+/// A system given as formulas with `N − 1` passengers and `R` constraints.
+#[derive(Debug, Clone)]
+pub struct Custom<const N: usize, const R: usize> {
+    compiled: Arc<Compiled>,
+    /// `(u₀, b, H)` where U is quadratic (driver row and column zero).
+    quadratic: Option<(f64, Vector<N>, Matrix<N, N>)>,
+}
+
+impl<const N: usize, const R: usize> Custom<N, R> {
+    /// The system of `compiled`, which must have `N − 1` passengers and `R` constraints.
+    pub fn new(compiled: Arc<Compiled>) -> Self {
+        debug_assert!(compiled.n + 1 == N && compiled.r == R);
+        let quadratic = match &compiled.passenger {
+            Passenger::Quadratic { u0, b, h } => {
+                let n = N - 1;
+                let mut bv = Vector::<N>::zeros();
+                let mut hm = Matrix::<N, N>::zeros();
+                for i in 0..n {
+                    bv[i] = b[i];
+                    for j in 0..n {
+                        hm[(i, j)] = h[i * n + j];
+                    }
+                }
+                Some((*u0, bv, hm))
+            }
+            Passenger::General { .. } => None,
+        };
+        Self { compiled, quadratic }
+    }
+
+    fn x(q: &Vector<N>) -> &[f64] {
+        &q.as_slice()[..N - 1]
+    }
+
+    fn terms_from(values: &[f64]) -> DriverTerms<N, R> {
+        let (n, r) = (N - 1, R);
+        let mut constraint = Matrix::<R, N>::zeros();
+        let mut constraint_d = Matrix::<R, N>::zeros();
+        for i in 0..r {
+            for j in 0..n {
+                constraint[(i, j)] = values[3 + i * n + j];
+                constraint_d[(i, j)] = values[3 + r * n + i * n + j];
+            }
+        }
+        DriverTerms {
+            constraint,
+            constraint_d,
+            potential: values[0],
+            potential_d1: values[1],
+            potential_d2: values[2],
+        }
+    }
+}
+
+impl<const N: usize, const R: usize> System<N, R> for Custom<N, R> {
+    fn quadratic_passenger(&self) -> bool {
+        self.compiled.quadratic_passenger
+    }
+    fn quadratic_driver(&self) -> bool {
+        self.compiled.quadratic_driver
+    }
+    fn free_passenger(&self) -> bool {
+        self.compiled.free_passenger
+    }
+    fn driver_is_periodic(&self) -> bool {
+        self.compiled.periodic
+    }
+
+    fn passenger_potential(&self, q: &Vector<N>) -> f64 {
+        match (&self.quadratic, &self.compiled.passenger) {
+            (Some((u0, b, h)), _) => u0 + b.dot(q) + 0.5 * q.dot(&(h * q)),
+            (None, Passenger::General { u, .. }) => {
+                let mut out = [0.0];
+                u.eval(Self::x(q), &mut out);
+                out[0]
+            }
+            (None, Passenger::Quadratic { .. }) => f64::NAN,
+        }
+    }
+    fn passenger_gradient(&self, q: &Vector<N>) -> Vector<N> {
+        match (&self.quadratic, &self.compiled.passenger) {
+            (Some((_, b, h)), _) => b + h * q,
+            (None, Passenger::General { gradient, .. }) => {
+                let mut g = Vector::<N>::zeros();
+                gradient.eval(Self::x(q), &mut g.as_mut_slice()[..N - 1]);
+                g
+            }
+            (None, Passenger::Quadratic { .. }) => Vector::<N>::repeat(f64::NAN),
+        }
+    }
+    fn passenger_hessian(&self, q: &Vector<N>) -> Matrix<N, N> {
+        match (&self.quadratic, &self.compiled.passenger) {
+            (Some((_, _, h)), _) => *h,
+            (None, Passenger::General { hessian, .. }) => {
+                // The upper triangle of at most 6 × 6.
+                let mut upper = [0.0; 21];
+                hessian.eval(Self::x(q), &mut upper[..(N - 1) * N / 2]);
+                let mut h = Matrix::<N, N>::zeros();
+                let mut k = 0;
+                for i in 0..N - 1 {
+                    for j in i..N - 1 {
+                        (h[(i, j)], h[(j, i)]) = (upper[k], upper[k]);
+                        k += 1;
+                    }
+                }
+                h
+            }
+            (None, Passenger::Quadratic { .. }) => Matrix::<N, N>::repeat(f64::NAN),
+        }
+    }
+    fn driver_potential(&self, zeta: f64) -> f64 {
+        with_driver_terms(&self.compiled, zeta, |v| v[0])
+    }
+    fn driver_potential_d1(&self, zeta: f64) -> f64 {
+        with_driver_terms(&self.compiled, zeta, |v| v[1])
+    }
+    fn driver_potential_d2(&self, zeta: f64) -> f64 {
+        with_driver_terms(&self.compiled, zeta, |v| v[2])
+    }
+    fn constraint(&self, zeta: f64) -> Matrix<R, N> {
+        with_driver_terms(&self.compiled, zeta, Self::terms_from).constraint
+    }
+    fn constraint_d(&self, zeta: f64) -> Matrix<R, N> {
+        with_driver_terms(&self.compiled, zeta, Self::terms_from).constraint_d
+    }
+    fn driver_terms(&self, zeta: f64) -> DriverTerms<N, R> {
+        with_driver_terms(&self.compiled, zeta, Self::terms_from)
+    }
+    fn driver_terms_trig(&self, zeta: f64, _sin: f64, _cos: f64) -> DriverTerms<N, R> {
+        self.driver_terms(zeta)
+    }
+    /// `(−a₂, a₁)/|a|` for one constraint on two passengers (the latitude's only use, signed as
+    /// the CVTs'); zero for other sizes, where nhlab does not offer the latitude.
+    fn kernel(&self, zeta: f64) -> Vector<N> {
+        let mut k = Vector::<N>::zeros();
+        if N == 3 && R == 1 {
+            let a = self.constraint(zeta);
+            let norm = (a[(0, 0)] * a[(0, 0)] + a[(0, 1)] * a[(0, 1)]).sqrt();
+            k[0] = -a[(0, 1)] / norm;
+            k[1] = a[(0, 0)] / norm;
+        }
+        k
+    }
+}

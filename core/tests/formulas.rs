@@ -1,0 +1,194 @@
+//! The formula compiler: symbolic derivatives against finite differences at random points
+//! for random well-formed formulas; tapes against the graph they were compiled from; and
+//! the parser against hostile input, which gets typed errors and never a panic.
+
+use nhlab_core::formula::derive::Derivative;
+use nhlab_core::formula::parse::{Name, Names, parse};
+use nhlab_core::formula::{FormulaError, Graph, Limits, Tape};
+use proptest::prelude::*;
+
+/// Three variables `x`, `y`, `z` and a parameter `k = 0.7`.
+struct Xyz;
+
+impl Names for Xyz {
+    fn resolve(&self, name: &str) -> Option<Name> {
+        match name {
+            "x" => Some(Name::Var(0)),
+            "y" => Some(Name::Var(1)),
+            "z" => Some(Name::Var(2)),
+            "k" => Some(Name::Value(0.7)),
+            "w" => Some(Name::Forbidden("w is the driver".into())),
+            _ => None,
+        }
+    }
+    fn allowed(&self) -> String {
+        "x, y, z, k".into()
+    }
+}
+
+fn compile(text: &str) -> Result<(Graph, nhlab_core::formula::Id), FormulaError> {
+    let mut g = Graph::new();
+    let e = parse(&mut g, text, &Xyz, &Limits::default())?;
+    Ok((g, e))
+}
+
+/// Random formulas that are smooth and finite near the points below: sums, products,
+/// quotients by `2 + sin` or `1 + e²`, small integer powers and the functions on arguments
+/// where they are defined.
+fn formula() -> impl Strategy<Value = String> {
+    let leaf = prop_oneof![
+        Just("x".to_string()),
+        Just("y".to_string()),
+        Just("z".to_string()),
+        Just("k".to_string()),
+        (1u32..9).prop_map(|n| format!("{}.5", n)),
+    ];
+    leaf.prop_recursive(5, 40, 2, |inner| {
+        prop_oneof![
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("({a} + {b})")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("({a} - {b})")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("{a}*{b}")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("{a}/(2 + sin({b}))")),
+            (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("{a}/(1 + ({b})^2)")),
+            (inner.clone(), 2i32..4).prop_map(|(a, k)| format!("({a})^{k}")),
+            inner.clone().prop_map(|a| format!("-{a}")),
+            inner.clone().prop_map(|a| format!("sin({a})")),
+            inner.clone().prop_map(|a| format!("cos(2*{a})")),
+            inner.clone().prop_map(|a| format!("exp(sin({a}))")),
+            inner.clone().prop_map(|a| format!("log(1 + ({a})^2)")),
+            inner.clone().prop_map(|a| format!("sqrt(1 + ({a})^2)")),
+            inner.clone().prop_map(|a| format!("atan({a})")),
+            inner.clone().prop_map(|a| format!("tanh({a}) + cosh(sin({a})) + sinh(cos({a}))")),
+            inner.prop_map(|a| format!("(2 + cos({a}))^k")),
+        ]
+    })
+}
+
+/// Central difference of `f` along variable `i`, and its error estimate from two steps.
+fn central(f: &dyn Fn(&[f64; 3]) -> f64, p: &[f64; 3], i: usize) -> (f64, f64) {
+    let d = |h: f64| {
+        let (mut a, mut b) = (*p, *p);
+        a[i] += h;
+        b[i] -= h;
+        (f(&a) - f(&b)) / (2.0 * h)
+    };
+    let (coarse, fine) = (d(1e-4), d(5e-5));
+    (fine, (coarse - fine).abs())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+    /// ∂f/∂xᵢ and ∂²f/∂xᵢ∂xⱼ against central differences of the graph's own evaluation, and
+    /// the tapes against the graph.
+    #[test]
+    fn derivatives_match_finite_differences(
+        text in formula(),
+        p in prop::array::uniform3(-1.5f64..1.5),
+    ) {
+        let (mut g, e) = compile(&text).expect("well-formed");
+        let mut by_var: Vec<Derivative> = (0..3).map(Derivative::new).collect();
+        let grad: Vec<_> = by_var.iter_mut().map(|d| d.of(&mut g, e)).collect();
+        let second: Vec<Vec<_>> = grad
+            .iter()
+            .map(|&gi| by_var.iter_mut().map(|d| d.of(&mut g, gi)).collect())
+            .collect();
+        let g = g;
+        let value = g.eval(e, &p);
+        prop_assume!(value.is_finite() && value.abs() < 1e6);
+        let f = |x: &[f64; 3]| g.eval(e, x);
+        for i in 0..3 {
+            let exact = g.eval(grad[i], &p);
+            let (fd, err) = central(&f, &p, i);
+            let tol = 1e-6 * (1.0 + exact.abs()) + 10.0 * err;
+            prop_assert!((exact - fd).abs() <= tol, "{text}: ∂{i} {exact} vs {fd}");
+            for (j, &dij) in second[i].iter().enumerate() {
+                let gi = |x: &[f64; 3]| g.eval(grad[i], x);
+                let (fd, err) = central(&gi, &p, j);
+                let exact = g.eval(dij, &p);
+                let tol = 1e-5 * (1.0 + exact.abs()) + 10.0 * err;
+                prop_assert!((exact - fd).abs() <= tol, "{text}: ∂{i}∂{j} {exact} vs {fd}");
+            }
+        }
+        let mut outputs = vec![e];
+        outputs.extend(&grad);
+        let tape = Tape::compile(&g, &outputs, 3);
+        let mut out = vec![0.0; outputs.len()];
+        tape.eval(&p, &mut out);
+        for (k, &o) in outputs.iter().enumerate() {
+            let want = g.eval(o, &p);
+            prop_assert!(out[k] == want || (out[k] - want).abs() <= 1e-13 * want.abs().max(1.0),
+                "{text}: tape {} vs graph {want}", out[k]);
+        }
+    }
+
+    /// Any text: a formula or a typed error, never a panic.
+    #[test]
+    fn any_text_parses_or_fails_cleanly(text in "[-+*/^() xyzkw0-9.esincoqrtlgpa_,]{0,80}") {
+        let _ = compile(&text);
+    }
+}
+
+fn error(text: &str) -> FormulaError {
+    compile(text).err().unwrap_or_else(|| panic!("{text} should not parse"))
+}
+
+#[test]
+fn errors_say_what_and_where() {
+    assert_eq!(
+        error("k*(x^2 + y^2))").to_string(),
+        "unexpected ')' at 14; expected an operator or the end of the formula"
+    );
+    assert!(matches!(error("sinn(x)"), FormulaError::UnknownFunction { at: 1, .. }));
+    assert!(matches!(error("x + q"), FormulaError::UnknownName { at: 5, .. }));
+    assert!(matches!(error("x*w"), FormulaError::Forbidden { at: 3, .. }));
+    assert!(matches!(error("sin + 1"), FormulaError::BareFunction { .. }));
+    assert!(matches!(error("2 ** x"), FormulaError::Unexpected { at: 4, .. }));
+    assert!(matches!(error("(x"), FormulaError::Unexpected { .. }));
+    assert!(matches!(error("1e400"), FormulaError::BadNumber { .. }));
+    assert!(matches!(error("   "), FormulaError::Empty));
+    assert!(matches!(error("NaN"), FormulaError::UnknownName { .. }));
+    assert!(matches!(error("x−1"), FormulaError::Unexpected { at: 2, .. }), "a unicode minus");
+}
+
+#[test]
+fn hostile_input_is_refused_without_a_panic() {
+    // Deep nesting of every kind, far beyond the limit: refused at the limit, no recursion.
+    for text in [
+        format!("{}x{}", "(".repeat(100_000), ")".repeat(100_000)),
+        format!("{}x", "-".repeat(100_000)),
+        format!("x{}", "^x".repeat(50_000)),
+        format!("{}x{}", "sin(".repeat(50_000), ")".repeat(50_000)),
+    ] {
+        let limits = Limits { max_chars: usize::MAX, ..Limits::default() };
+        let mut g = Graph::new();
+        let e = parse(&mut g, &text, &Xyz, &limits).unwrap_err();
+        assert!(matches!(e, FormulaError::TooDeep { limit: 64, .. }), "{e}");
+    }
+    // 10⁵ characters: refused before parsing.
+    let long = format!("x{}", "+x".repeat(50_000));
+    assert!(matches!(error(&long), FormulaError::TooLong { chars: 100_001, limit: 2000 }));
+    // A long flat sum within the limits parses, and its derivative is small.
+    let (mut g, e) = compile(&format!("x{}", "+x*y".repeat(399))).unwrap();
+    let d = Derivative::new(0).of(&mut g, e);
+    assert_eq!(g.eval(d, &[1.0, 2.0, 0.0]), 1.0 + 399.0 * 2.0);
+    // Division by zero and overflow evaluate to inf or NaN: the runs report them.
+    let (g, e) = compile("1/(x - x*1)").unwrap();
+    assert!(!g.eval(e, &[1.0, 0.0, 0.0]).is_finite());
+    // Nesting exactly at the limit is fine.
+    compile(&format!("{}x{}", "(".repeat(63), ")".repeat(63))).unwrap();
+}
+
+#[test]
+fn sine_and_cosine_of_one_argument_are_one_sin_cos_and_double_angles_share_it() {
+    let (mut g, e) = compile("1 - cos(x) - k*sin(2*x)/2").unwrap();
+    let d1 = Derivative::new(0).of(&mut g, e);
+    let tape = Tape::compile(&g, &[e, d1], 1);
+    let mut out = [0.0; 2];
+    tape.eval(&[0.3], &mut out);
+    let (s, c) = 0.3f64.sin_cos();
+    assert!((out[0] - (1.0 - c - 0.7 * s * c)).abs() < 1e-15);
+    assert!((out[1] - (s - 0.7 * (c * c - s * s))).abs() < 1e-15);
+    // sin x and cos x: one sin_cos, shared by V, V′ and the double angles.
+    assert_eq!(tape.calls(), 1, "{tape:?}");
+}
