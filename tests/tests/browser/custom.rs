@@ -3,7 +3,7 @@
 
 use crate::driver::Driver;
 use crate::explore::console_clean;
-use crate::page::{PLOT_REPORT, js, screenshot, wait_for_status};
+use crate::page::{PLOT_REPORT, js, screenshot, wait_for_status, wait_for_view};
 use fantoccini::{Client, Locator};
 use serde_json::json;
 use std::time::Duration;
@@ -88,6 +88,7 @@ pub(crate) async fn custom_system(
     let plot = js(client, PLOT_REPORT).await?;
     assert_eq!(plot["runs"], json!(["ok", "ok", "ok", "ok", "ok"]), "{plot}");
     console_clean(driver, client, "custom system from its link").await?;
+    work_precision(client).await?;
     start_from(client).await?;
     println!("custom system: edited, run, error at its input, link reproduces it ({shot})");
     Ok(())
@@ -123,6 +124,24 @@ async fn bad_formula(client: &Client) -> Result<(), String> {
     let message = field[1].as_str().unwrap_or_default();
     assert!(message.contains(')'), "the server's message sits under the entry: {field}");
     Ok(())
+}
+
+/// The Work–precision tab measures the custom system too, and names it; then back to Explore.
+async fn work_precision(client: &Client) -> Result<(), String> {
+    let tab = |view: &'static str| async move {
+        client
+            .find(Locator::Css(&format!(".tabs .tab[data-view=\"{view}\"]")))
+            .await
+            .map_err(|e| format!("no {view} tab: {e}"))?
+            .click()
+            .await
+            .map_err(|e| format!("cannot click the {view} tab: {e}"))
+    };
+    tab("work-precision").await?;
+    let (state, text) = wait_for_view(client, "view-work-precision").await?;
+    assert_eq!(state, "done", "work–precision on the custom system: {text:?}");
+    assert!(text.contains("(custom)"), "the status names the custom system: {text:?}");
+    tab("main").await
 }
 
 /// "Start from" refills the editor and the initial state from another built-in: the rolling

@@ -14,7 +14,9 @@
 //!    server's error next to the field its `path` names;
 //! 6. "Custom system" opens the editor filled with the knife edge's formulas; an edited U runs
 //!    (`custom-system.png`), a stray parenthesis in a constraint entry is shown under that
-//!    entry (`custom-bad-formula.png`), and the successful run's link brings it all back;
+//!    entry (`custom-bad-formula.png`), the successful run's link brings it all back, the
+//!    Work–precision tab measures it and names it, and "Start from" refills the editor (the
+//!    rolling disk's two constraints, the pendulum CVT's latitude);
 //! 7. `?view=paper` draws every panel of the paper's four figures (five curves with data
 //!    each) with a verdict per method under it (`paper.png`, `paper-cvt.png`);
 //! 8. `?view=scorecard` shows a verdict cell for every method × paper scene × integral and
