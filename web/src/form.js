@@ -1,8 +1,12 @@
 // The form: built from the /systems catalog, filled from a state, read back into one, and
 // showing errors next to the field an API error's `path` names (`params.epsilon`,
-// `methods[1].alpha`, `q[2]`, …). Every field carries a `data-path` for that lookup.
+// `methods[1].alpha`, `q[2]`, `system.constraints[0][1]`, …). Every field carries a
+// `data-path` for that lookup. "Custom system" in the system select shows the editor
+// (editor.js) in place of the preset and parameters.
 
 import { defaultWindow, findPreset, findSystem } from './catalog.js';
+import { CUSTOM, customIntegrals, isCustom, startingPoints } from './custom.js';
+import { Editor } from './editor.js';
 import { parseList } from './state.js';
 import { runColor } from './plots.js';
 
@@ -12,42 +16,52 @@ export class Form {
   constructor(catalog) {
     this.catalog = catalog;
     this.el = $('form');
-    $('system').replaceChildren(...catalog.systems.map((s) => option(s.id, s.name)));
+    $('system').replaceChildren(...catalog.systems.map((s) => option(s.id, s.name)), option(CUSTOM, 'Custom system (formulas)…'));
+    $('custom-start').replaceChildren(option('', 'Pick a built-in system…'), ...startingPoints(catalog).map((s) => option(s.id, s.name)));
     $('add-method-id').replaceChildren(...catalog.methods.map((m) => option(m.id, m.name)));
+    this.editor = new Editor({ maxParameters: catalog.limits?.formula_parameters });
+    // Editing the custom system's shape changes the integrals it may have and q's size.
+    $('custom-editor').addEventListener('change', () => {
+      if ($('system').value !== CUSTOM) return;
+      const checked = this.#checkedIntegrals();
+      this.#custom(this.editor.read([]), checked);
+    });
   }
 
   /** Shows a state in the form. */
   fill(state) {
-    const system = findSystem(this.catalog, state.system);
-    $('system').value = system.id;
-    $('system-description').textContent = system.description ?? '';
-    $('preset').replaceChildren(
-      ...(system.presets ?? []).map((p) => option(p.id, p.label)),
-      option('', 'None (system defaults)'),
-    );
-    $('preset').value = state.preset;
-    this.#params(system, state.params);
+    const custom = isCustom(state.system);
+    this.shown = custom ? CUSTOM : state.system;
+    $('custom-editor').hidden = !custom;
+    $('preset').closest('.field').hidden = custom;
+    if (custom) {
+      $('system').value = CUSTOM;
+      $('custom-start').value = '';
+      $('system-description').textContent = 'A system of your own, as formulas: passengers x with potential U, a driver ζ with potential V_d, and A(ζ) ẋ = 0.';
+      $('preset').replaceChildren(option('', 'None'));
+      this.#params({ params: [] }, {});
+      this.editor.fill(state.system);
+      this.#custom(state.system, state.integrals);
+    } else {
+      const system = findSystem(this.catalog, state.system);
+      $('system').value = system.id;
+      $('system-description').textContent = system.description ?? '';
+      $('preset').replaceChildren(
+        ...(system.presets ?? []).map((p) => option(p.id, p.label)),
+        option('', 'None (system defaults)'),
+      );
+      $('preset').value = state.preset;
+      this.#params(system, state.params);
+      this.#placeholders(`${system.dof} numbers`, '', '');
+      this.#integrals(system.integrals, state.integrals);
+    }
     $('q').value = state.q.map(String).join(', ');
     $('v').value = state.v.map(String).join(', ');
-    $('q').placeholder = `${system.dof} numbers`;
-    $('v').placeholder = `${system.dof} numbers`;
     setNumber($('step'), state.step);
     setNumber($('t_end'), state.t_end);
     setNumber($('points'), state.points);
     $('methods').replaceChildren();
     for (const m of state.methods) this.addMethod(m.id, m.params);
-    $('integrals').replaceChildren(
-      ...system.integrals.map((id) => {
-        const label = el('label', 'check');
-        const box = el('input');
-        box.type = 'checkbox';
-        box.name = 'integral';
-        box.value = id;
-        box.checked = state.integrals.includes(id);
-        label.append(box, document.createTextNode(` ${id}`));
-        return label;
-      }),
-    );
     $('stat').value = state.stat;
     $('smooth').checked = state.smooth;
     setNumber($('window'), state.window);
@@ -94,14 +108,43 @@ export class Form {
     this.#numberRows();
   }
 
-  /** The preset's values for the current system and preset select (a preset change refills). */
-  presetValues() {
-    const system = findSystem(this.catalog, $('system').value);
-    return { system, preset: findPreset(system, $('preset').value) };
+  // A custom system's integrals and the sizes of q and q̇ (its names, the driver last); the
+  // server's defaults for an empty step and final time.
+  #custom(sys, checked) {
+    const names = [...sys.passenger, sys.driver].join(', ');
+    this.#placeholders(`${sys.passenger.length + 1} numbers: ${names}`, '0.1', '100');
+    this.#integrals(customIntegrals(sys), checked);
   }
 
-  /** Reads the form into a state; `invalid` lists fields that do not parse ({path, message}). */
-  read() {
+  #placeholders(q, step, tEnd) {
+    $('q').placeholder = q;
+    $('v').placeholder = q;
+    $('step').placeholder = step;
+    $('t_end').placeholder = tEnd;
+  }
+
+  #integrals(offered, checked) {
+    $('integrals').replaceChildren(
+      ...offered.map((id) => {
+        const label = el('label', 'check');
+        const box = el('input');
+        box.type = 'checkbox';
+        box.name = 'integral';
+        box.value = id;
+        box.checked = checked.includes(id);
+        label.append(box, document.createTextNode(` ${id}`));
+        return label;
+      }),
+    );
+  }
+
+  #checkedIntegrals() {
+    return [...$('integrals').querySelectorAll('input:checked')].map((b) => b.value);
+  }
+
+  /** Reads the form into a state; `invalid` lists fields that do not parse ({path, message}).
+   *  `as`: read it as that system select value (the one shown before a switch, `shown`). */
+  read({ as } = {}) {
     const invalid = [];
     const number = (input, path) => {
       if (input.value.trim() === '') return null;
@@ -109,9 +152,10 @@ export class Form {
       if (!Number.isFinite(v)) invalid.push({ path, message: 'not a number' });
       return v;
     };
-    const system = findSystem(this.catalog, $('system').value);
+    const custom = (as ?? $('system').value) === CUSTOM;
+    const system = custom ? null : findSystem(this.catalog, as ?? $('system').value);
     const params = {};
-    for (const input of $('params').querySelectorAll('input')) {
+    for (const input of custom ? [] : $('params').querySelectorAll('input')) {
       const v = number(input, `params.${input.name}`);
       if (v !== null) params[input.name] = v;
     }
@@ -132,12 +176,12 @@ export class Form {
       methods.push({ id: box.dataset.id, params: p });
     }
     if (methods.length === 0) invalid.push({ path: 'methods', message: 'choose at least one method' });
-    const integrals = [...$('integrals').querySelectorAll('input:checked')].map((b) => b.value);
+    const integrals = this.#checkedIntegrals();
     if (integrals.length === 0) invalid.push({ path: 'integrals', message: 'choose at least one integral' });
     const t_end = number($('t_end'), 't_end');
     const state = {
-      system: system.id,
-      preset: $('preset').value,
+      system: custom ? this.editor.read(invalid) : system.id,
+      preset: custom ? '' : $('preset').value,
       params,
       q: list('q'),
       v: list('v'),
@@ -162,8 +206,10 @@ export class Form {
     p.setAttribute('role', 'alert');
     if (target) {
       target.classList.add('invalid');
-      // A method parameter's message goes under its row, not inside the inline label.
-      (target.classList.contains('method-param') ? target.closest('.method-row') : target).append(p);
+      // A method parameter's or a constraint entry's message goes under its row, not inside
+      // the inline label.
+      const inline = target.classList.contains('method-param') || target.classList.contains('custom-cell');
+      (inline ? target.closest('.method-row, .custom-row') : target).append(p);
       target.scrollIntoView?.({ block: 'nearest' });
       return true;
     }

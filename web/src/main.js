@@ -3,7 +3,8 @@
 // progress and runs table once per animation frame. Cancel aborts the fetch. Three more views,
 // Scorecard, Paper and Work–precision, live in the URL as `?view=scorecard` / `?view=paper` /
 // `?view=work-precision` (with the form's scene); clicking a scorecard cell opens its scene
-// here.
+// here. "Custom system" in the system select opens the formula editor, filled from the system
+// shown or from the built-in its "Start from" select picks.
 
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
@@ -16,7 +17,8 @@ import { Plots } from './plots.js';
 import { Result } from './result.js';
 import { renderRuns } from './runs.js';
 import { defaultWindow, paperExperiments } from './catalog.js';
-import { decodeState, defaultState, encodeState, requestBody } from './state.js';
+import { CUSTOM, customFrom, customIntegrals, isCustom, sceneCaption, systemName } from './custom.js';
+import { decodeState, defaultCustomState, defaultState, encodeState, requestBody } from './state.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -38,7 +40,7 @@ async function start() {
     return;
   }
   form = new Form(catalog);
-  plots = new Plots($('plots'));
+  plots = new Plots($('plots'), { caption: (scene) => sceneCaption(scene, catalog) });
   experimentButtons();
   const { state, warnings } = decodeState(location.search, catalog);
   form.fill(state);
@@ -79,9 +81,10 @@ function setView(name, push = false) {
 
 // A scorecard cell: its scene, with the scorecard's methods, run here.
 function openScene(scene, methods) {
-  const state = defaultState(catalog, scene.system, scene.preset);
+  const custom = isCustom(scene.system);
+  const state = custom ? defaultCustomState(catalog, scene.system) : defaultState(catalog, scene.system, scene.preset);
   Object.assign(state, {
-    params: { ...scene.params },
+    params: custom ? {} : { ...scene.params },
     q: [...scene.q],
     v: [...scene.v],
     step: scene.step,
@@ -146,6 +149,7 @@ function wire() {
     const id = e.target.id;
     if (id === 'system') switchSystem();
     else if (id === 'preset') switchPreset();
+    else if (id === 'custom-start') startFrom($('custom-start').value);
     form.renumber();
     if (['stat', 'smooth', 'window'].includes(id)) {
       plots.resetFloor();
@@ -166,8 +170,13 @@ function wire() {
   });
 }
 
-// A new system: its first preset, defaults for integrals and window; the methods stay.
+// A new system: its first preset, defaults for integrals and window; the methods stay. The
+// custom system starts as the system shown, written as formulas, with its values.
 function switchSystem() {
+  if ($('system').value === CUSTOM) {
+    if (form.shown !== CUSTOM) openEditor(form.read({ as: form.shown }).state);
+    return;
+  }
   const { state: current } = form.read();
   const next = defaultState(catalog, $('system').value);
   next.methods = current.methods.length ? current.methods : next.methods;
@@ -185,6 +194,36 @@ function switchPreset() {
   if (current.window === defaultWindow(current.t_end)) current.window = next.window;
   Object.assign(current, { params: next.params, q: next.q, v: next.v, step: next.step, t_end: next.t_end });
   form.fill(current);
+}
+
+function openEditor(current) {
+  const sys = customFrom(catalog, current.system, current.params);
+  const offered = customIntegrals(sys);
+  const next = defaultCustomState(catalog, sys);
+  const integrals = current.integrals.filter((i) => offered.includes(i));
+  Object.assign(next, {
+    q: current.q,
+    v: current.v,
+    step: current.step,
+    t_end: current.t_end,
+    points: current.points,
+    methods: current.methods.length ? current.methods : next.methods,
+    integrals: integrals.length ? integrals : next.integrals,
+    stat: current.stat,
+    smooth: current.smooth,
+    window: current.window,
+  });
+  form.fill(next);
+}
+
+// "Start from" a built-in: its formulas at its first preset's parameters, that preset's
+// initial state and times; the methods and display stay.
+function startFrom(id) {
+  if (!id) return;
+  const { state: current } = form.read();
+  const base = defaultState(catalog, id);
+  openEditor({ ...base, methods: current.methods, points: current.points, stat: current.stat, smooth: current.smooth });
+  $('custom-start').value = id;
 }
 
 function syncURL(run = false) {
@@ -305,7 +344,8 @@ function banner(node, text) {
 
 function fileStem() {
   const s = result.scene;
-  return ['nhlab', s.system, s.preset].filter(Boolean).join('-');
+  const system = isCustom(s.system) ? systemName(s.system, catalog).toLowerCase().replace(/[^a-z0-9]+/g, '-').replace(/^-|-$/g, '') || 'custom' : s.system;
+  return ['nhlab', system, s.preset].filter(Boolean).join('-');
 }
 
 function download(name, type, text) {

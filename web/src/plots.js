@@ -31,8 +31,10 @@ const HEIGHT = 300;
 const DECADES = Array.from({ length: 617 }, (_, i) => 10 ** (i - 308));
 
 export class Plots {
-  constructor(container) {
+  /** `caption(scene)`: a line under each chart's title naming the scene (none without it). */
+  constructor(container, { caption } = {}) {
     this.container = container;
+    this.caption = caption;
     this.charts = [];
     new ResizeObserver(() => this.#resize()).observe(container);
   }
@@ -52,7 +54,9 @@ export class Plots {
       const note = el('p', 'floor-note');
       note.hidden = true;
       note.textContent = `Values below ${FLOOR.toExponential(0)} are shown at ${FLOOR.toExponential(0)} on the dashed line (exact within round-off).`;
-      card.append(head, target, note);
+      card.append(head);
+      if (this.caption) card.append(el('p', 'plot-scene', this.caption(result.scene)));
+      card.append(target, note);
       this.container.append(card);
       const chart = { integral, card, note, sub, subtitle, clamped: false, u: null };
       chart.u = new uPlot(this.#options(result, chart), emptyData(result.runs.length), target);

@@ -4,9 +4,13 @@
 //   ?system=<system id>&preset=<preset id>&smooth=1&run=1
 // Methods are written `id` or `id:p1:p2` (parameters in the order /systems lists them), e.g.
 // `methods=<id>:0.5,<id>:0.4,<id>`. The defaults (methods, window) come from the catalog by
-// the rules of catalog.js. Pure functions over the /systems catalog.
+// the rules of catalog.js. A custom system (custom.js) is written field by field instead of
+// `system` and `preset`; it has no preset, so its initial state and times are written too:
+//   ?custom=<name>&passenger=x1,x2&driver=zeta&param.k=1&U=…&Vd=…&A=…&q=…&v=…&step=…&t_end=…
+// Pure functions over the /systems catalog.
 
 import { defaultMethods, defaultWindow, findPreset, findSystem } from './catalog.js';
+import { copyCustom, decodeCustom, defaultCustomIntegrals, encodeCustom, isCustom } from './custom.js';
 
 export { defaultWindow, findPreset, findSystem };
 
@@ -35,11 +39,34 @@ export function defaultState(catalog, systemId, presetId) {
   };
 }
 
+/** The state of a custom system `sys` (its parameters carry their values): no preset, an
+ *  initial state and times to fill, the integrals every custom system has. */
+export function defaultCustomState(catalog, sys) {
+  return {
+    system: copyCustom(sys),
+    preset: '',
+    params: {},
+    q: [],
+    v: [],
+    step: null,
+    t_end: null,
+    points: 1000,
+    methods: defaultMethods(catalog),
+    integrals: defaultCustomIntegrals(),
+    stat: 'mean',
+    smooth: false,
+    window: defaultWindow(undefined),
+    run: false,
+  };
+}
+
 /** The query string for a state (without `?`). */
 export function encodeState(state, catalog) {
-  const d = defaultState(catalog, state.system, state.preset);
-  const out = [['system', state.system], ['preset', state.preset]];
-  for (const [name, value] of Object.entries(state.params)) {
+  const custom = isCustom(state.system);
+  const d = custom ? defaultCustomState(catalog, state.system) : defaultState(catalog, state.system, state.preset);
+  const out = custom ? encodeCustom(state.system) : [['system', state.system], ['preset', state.preset]];
+  if (custom) d.window = defaultWindow(state.t_end);
+  for (const [name, value] of Object.entries(custom ? {} : state.params)) {
     if (!sameNumber(value, d.params[name])) out.push([`param.${name}`, num(value)]);
   }
   for (const key of ['q', 'v']) {
@@ -68,6 +95,13 @@ export function encodeState(state, catalog) {
 export function decodeState(query, catalog) {
   const p = new URLSearchParams(query);
   const warnings = [];
+  const custom = decodeCustom(p);
+  if (custom) {
+    const state = defaultCustomState(catalog, custom);
+    readFields(p, state, catalog, warnings);
+    if (!p.has('window')) state.window = defaultWindow(state.t_end);
+    return { state, warnings };
+  }
   let systemId = p.get('system');
   if (systemId !== null && !findSystem(catalog, systemId)) {
     warnings.push(`unknown system "${systemId}" in the link; showing ${catalog.systems[0].id}`);
@@ -84,6 +118,12 @@ export function decodeState(query, catalog) {
   for (const [key, value] of p) {
     if (key.startsWith('param.')) state.params[key.slice(6)] = Number(value);
   }
+  readFields(p, state, catalog, warnings);
+  return { state, warnings };
+}
+
+// The fields a built-in's and a custom system's links share, over `state`'s defaults.
+function readFields(p, state, catalog, warnings) {
   for (const key of ['q', 'v']) if (p.has(key)) state[key] = parseList(p.get(key));
   for (const key of ['step', 't_end', 'points']) if (p.has(key)) state[key] = Number(p.get(key));
   if (p.has('methods')) state.methods = decodeMethods(p.get('methods'), catalog, warnings);
@@ -92,14 +132,15 @@ export function decodeState(query, catalog) {
   state.smooth = p.get('smooth') === '1';
   if (p.has('window')) state.window = Number(p.get('window'));
   state.run = p.get('run') === '1';
-  return { state, warnings };
 }
 
-/** The body of `POST /simulate` for a state. */
+/** The body of `POST /simulate` for a state: a custom system goes as its object, without
+ *  preset and params (its parameters carry their values). */
 export function requestBody(state) {
-  const body = { system: state.system };
-  if (state.preset) body.preset = state.preset;
-  body.params = { ...state.params };
+  const custom = isCustom(state.system);
+  const body = { system: custom ? copyCustom(state.system) : state.system };
+  if (state.preset && !custom) body.preset = state.preset;
+  if (!custom) body.params = { ...state.params };
   // Unset fields (empty inputs) are left to the preset.
   for (const key of ['q', 'v']) if (state[key]?.length) body[key] = state[key];
   for (const key of ['step', 't_end']) if (state[key] !== null && state[key] !== undefined) body[key] = state[key];
@@ -155,6 +196,7 @@ function sameNumber(a, b) {
   return num(a) === num(b);
 }
 
+// Slashes and spaces (as +) are written plainly too, for readable formulas.
 function esc(s) {
-  return encodeURIComponent(s).replace(/%2C/g, ',').replace(/%3A/g, ':');
+  return encodeURIComponent(s).replace(/%2C/g, ',').replace(/%3A/g, ':').replace(/%2F/g, '/').replace(/%20/g, '+');
 }

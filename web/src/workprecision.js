@@ -6,6 +6,7 @@
 
 import uPlot from 'uplot';
 import { ApiError, fetchWorkPrecision, retrying } from './api.js';
+import { sceneCaption } from './custom.js';
 import { runColor, runWidth } from './plots.js';
 import { MAX_LEVELS, MAX_REPEATS, curves, decodeSettings, formatOrder, workPrecisionBody, workPrecisionQuery } from './precision.js';
 
@@ -80,7 +81,8 @@ export class WorkPrecisionView {
       const failed = answer.rows.filter((r) => r.status !== 'ok').length;
       const ref = answer.reference;
       const refText = `reference: Dop853, ${ref.steps} steps${ref.cached ? ', cached' : `, ${ref.elapsed_ms.toFixed(1)} ms`}`;
-      this.#status(failed ? 'done-failed' : 'done', `Done: ${answer.rows.length} runs${failed ? `, ${failed} failed (see the table)` : ''}; ${refText}.`);
+      const scene = answer.scene ? ` on ${sceneCaption(answer.scene, this.catalog)}` : '';
+      this.#status(failed ? 'done-failed' : 'done', `Done: ${answer.rows.length} runs${scene}${failed ? `, ${failed} failed (see the table)` : ''}; ${refText}.`);
     } catch (e) {
       if (this.controller !== mine || e.name === 'AbortError') return;
       const where = e instanceof ApiError && e.path ? ` (field ${e.path})` : '';

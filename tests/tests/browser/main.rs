@@ -12,11 +12,16 @@
 //! 4. editing the form rewrites the URL, and that URL restores the form;
 //! 5. a link with a bad parameter and `run=1` fills the form, runs by itself, and shows the
 //!    server's error next to the field its `path` names;
-//! 6. `?view=paper` draws every panel of the paper's four figures (five curves with data
+//! 6. "Custom system" opens the editor filled with the knife edge's formulas; an edited U runs
+//!    (`custom-system.png`), a stray parenthesis in a constraint entry is shown under that
+//!    entry (`custom-bad-formula.png`), the successful run's link brings it all back, the
+//!    Work–precision tab measures it and names it, and "Start from" refills the editor (the
+//!    rolling disk's two constraints, the pendulum CVT's latitude);
+//! 7. `?view=paper` draws every panel of the paper's four figures (five curves with data
 //!    each) with a verdict per method under it (`paper.png`, `paper-cvt.png`);
-//! 7. `?view=scorecard` shows a verdict cell for every method × paper scene × integral and
+//! 8. `?view=scorecard` shows a verdict cell for every method × paper scene × integral and
 //!    the property marks (`scorecard.png`); clicking a cell runs that scene in the main view;
-//! 8. `?view=work-precision` with a knife-edge scene draws both log–log plots (error against
+//! 9. `?view=work-precision` with a knife-edge scene draws both log–log plots (error against
 //!    run time, error against h) with a line per method, and each method's fitted order in
 //!    the legend and the table, LF and DLA^{0,1} near 2, DLA^0.4 near 1
 //!    (`work-precision.png`); the tab takes the Explore form's scene and methods; a run that
@@ -25,11 +30,13 @@
 //! Chromium and chromedriver are required, not optional: without them the test fails and
 //! says how to install them. `NHLAB_CHROMIUM` / `NHLAB_CHROMEDRIVER` override their paths.
 
+mod custom;
 mod driver;
 mod explore;
 mod page;
 mod views;
 
+use custom::custom_system;
 use driver::{Driver, required};
 use explore::{bad_parameter_link, cancel, failed_runs, form_in_the_url, knife_edge};
 use fantoccini::Client;
@@ -63,6 +70,7 @@ async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), S
     cancel(client, driver, base).await?;
     form_in_the_url(client, driver, base).await?;
     bad_parameter_link(client, base).await?;
+    custom_system(client, driver, base).await?;
     paper_view(client, driver, base).await?;
     scorecard_view(client, driver, base).await?;
     work_precision_view(client, driver, base).await
