@@ -3,8 +3,9 @@
 //! A formula is parsed ([`parse`]) into a graph of shared nodes ([`graph::Graph`]) whose
 //! constructors fold constants and merge equal subexpressions, differentiated there
 //! symbolically ([`derive`]: exact derivatives, never finite differences), and compiled
-//! into a straight-line [`tape::Tape`] evaluated without parsing or allocating. Evaluation
-//! cannot loop: a tape is a list of instructions run once each, in order.
+//! into a straight-line [`tape::Tape`] evaluated without parsing or allocating, and from it
+//! into machine code ([`jit::Jitted`], Cranelift) where the host allows. Evaluation cannot
+//! loop: a tape is a list of instructions run once each, in order, and so is its code.
 //!
 //! The language: numbers, `+ - * / ^`, unary minus, parentheses, the functions of
 //! [`graph::Func`] and the constant `pi`; names are the variables and parameters a caller
@@ -13,10 +14,14 @@
 
 pub mod derive;
 pub mod error;
+pub mod function;
 pub mod graph;
+pub mod jit;
 pub mod parse;
 pub mod tape;
 
 pub use error::{FormulaError, Limits};
+pub use function::Function;
 pub use graph::{Func, Graph, Id};
+pub use jit::Jitted;
 pub use tape::Tape;

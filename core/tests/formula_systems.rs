@@ -1,7 +1,8 @@
 //! Every built-in system written as formulas (`SystemInfo::formulas`, what `GET /systems`
 //! lists) is the same system: each method's step from every state of 1,000 along the
 //! built-in's trajectory lands where the built-in's does to 10⁻¹² (relative), on every
-//! preset; and on the paper's six scenes every method's verdicts are the built-in's.
+//! preset, compiled to machine code and interpreted alike; and on the paper's six scenes
+//! every method's verdicts are the built-in's.
 
 mod common;
 use common::{case, preset_start, step_difference};
@@ -34,29 +35,33 @@ fn same_steps<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
         let overrides: Vec<(String, f64)> =
             preset.params.iter().map(|(n, v)| (n.to_string(), *v)).collect();
         let spec = FormulaSpec::of(info);
-        let compiled = CustomSystem::compile(&spec, &overrides, &CustomLimits::default())
-            .unwrap_or_else(|e| panic!("{}: {e}", info.id));
-        let formulas = Custom::<N, R>::new(compiled.compiled.clone());
-        for m in methods() {
-            let name = case::<S, N, R>(index, &m.label());
-            let (mut st, mut memory) = (start, m.memory());
-            let mut worst: f64 = 0.0;
-            for k in 0..STEPS {
-                let ((mut a, mut a_mem), (mut b, mut b_mem)) = ((st, memory), (st, memory));
-                match (
-                    m.step(&formulas, &mut a, &mut a_mem, h),
-                    m.step(&sys, &mut b, &mut b_mem, h),
-                ) {
-                    (Ok(()), Ok(())) => {}
-                    (Err(x), Err(y)) if x == y && k > 0 => break,
-                    (x, y) => panic!("{name} step {k}: formulas {x:?}, built-in {y:?}"),
+        for native in [true, false] {
+            let limits = CustomLimits { native, ..CustomLimits::default() };
+            let compiled = CustomSystem::compile(&spec, &overrides, &limits)
+                .unwrap_or_else(|e| panic!("{}: {e}", info.id));
+            assert_eq!(compiled.compiled.driver.is_native(), native);
+            let formulas = Custom::<N, R>::new(compiled.compiled.clone());
+            for m in methods() {
+                let name = case::<S, N, R>(index, &format!("{} (native: {native})", m.label()));
+                let (mut st, mut memory) = (start, m.memory());
+                let mut worst: f64 = 0.0;
+                for k in 0..STEPS {
+                    let ((mut a, mut a_mem), (mut b, mut b_mem)) = ((st, memory), (st, memory));
+                    match (
+                        m.step(&formulas, &mut a, &mut a_mem, h),
+                        m.step(&sys, &mut b, &mut b_mem, h),
+                    ) {
+                        (Ok(()), Ok(())) => {}
+                        (Err(x), Err(y)) if x == y && k > 0 => break,
+                        (x, y) => panic!("{name} step {k}: formulas {x:?}, built-in {y:?}"),
+                    }
+                    let rel = step_difference(&a, &b);
+                    worst = worst.max(rel);
+                    assert!(rel <= TOL, "{name} step {k}: formulas and built-in differ by {rel:e}");
+                    (st, memory) = (b, b_mem);
                 }
-                let rel = step_difference(&a, &b);
-                worst = worst.max(rel);
-                assert!(rel <= TOL, "{name} step {k}: formulas and built-in differ by {rel:e}");
-                (st, memory) = (b, b_mem);
+                println!("{name}: worst {worst:.1e}");
             }
-            println!("{name}: worst {worst:.1e}");
         }
     }
 }

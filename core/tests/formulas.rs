@@ -4,7 +4,7 @@
 
 use nhlab_core::formula::derive::Derivative;
 use nhlab_core::formula::parse::{Name, Names, parse};
-use nhlab_core::formula::{FormulaError, Graph, Limits, Tape};
+use nhlab_core::formula::{FormulaError, Function, Graph, Limits, Tape};
 use proptest::prelude::*;
 
 /// Three variables `x`, `y`, `z` and a parameter `k = 0.7`.
@@ -115,6 +115,14 @@ proptest! {
         let tape = Tape::compile(&g, &outputs, 3);
         let mut out = vec![0.0; outputs.len()];
         tape.eval(&p, &mut out);
+        // The machine code computes what the tape does, bit for bit.
+        let native = Function::new(tape.clone(), true);
+        prop_assert!(native.is_native());
+        let mut fast = vec![0.0; outputs.len()];
+        native.eval(&p, &mut fast);
+        for (a, b) in fast.iter().zip(&out) {
+            prop_assert!(a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()), "{text}: {a} vs {b}");
+        }
         for (k, &o) in outputs.iter().enumerate() {
             let want = g.eval(o, &p);
             prop_assert!(out[k] == want || (out[k] - want).abs() <= 1e-13 * want.abs().max(1.0),

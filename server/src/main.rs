@@ -156,6 +156,7 @@ impl Args {
                     ..defaults().formulas.formula
                 },
                 max_parameters: self.max_formula_parameters,
+                ..defaults().formulas
             },
             ..Config::default()
         }

@@ -120,8 +120,17 @@ async fn openapi_describes_the_api() {
     }
     let request = &doc["components"]["schemas"]["SimulateRequest"];
     assert_eq!(request["required"], json!(["system"]));
-    let systems = request["properties"]["system"]["enum"].as_array().unwrap();
+    // `system`: an id of the registry, or a system given as formulas.
+    let system = &request["properties"]["system"]["oneOf"];
+    let systems = system[0]["enum"].as_array().unwrap();
     assert!(systems.contains(&json!("knife_edge")));
+    let formulas = &system[1];
+    let formulas = if formulas["$ref"].is_string() {
+        &doc["components"]["schemas"]["FormulaSystem"]
+    } else {
+        formulas
+    };
+    assert!(formulas["properties"]["constraints"].is_object(), "{formulas}");
     let methods = &request["properties"]["methods"]["items"]["oneOf"];
     assert!(methods.as_array().unwrap().len() >= 5, "{methods}");
     let simulate = &doc["paths"]["/simulate"]["post"];

@@ -65,14 +65,14 @@ impl CustomSystem {
                     (0..n).map(|i| (0..n).map(|j| x[i] * h[i * n + j] * x[j]).sum::<f64>()).sum();
                 u0 + bx + 0.5 * xhx
             }
-            Passenger::General { u, gradient, .. } => {
+            Passenger::General(p) => {
                 let mut g = vec![0.0; n];
-                gradient.eval(x, &mut g);
+                p.gradient.eval(x, &mut g);
                 if let Some(bad) = g.iter().find(|g| !g.is_finite()) {
                     return Err(not_finite("system.passenger_potential".into(), "∇U", *bad));
                 }
                 let mut out = [0.0];
-                u.eval(x, &mut out);
+                p.u.eval(x, &mut out);
                 out[0]
             }
         };

@@ -203,7 +203,9 @@ impl Graph {
             (_, Some(-1.0)) => self.neg(a),
             _ if a == b => self.intern(Node::PowI(a, 2)),
             // A constant times a constant times x: one product (within one rounding).
-            (Some(x), _) | (_, Some(x)) if self.scaled(if self.is(a, x) { b } else { a }).is_some() => {
+            (Some(x), _) | (_, Some(x))
+                if self.scaled(if self.is(a, x) { b } else { a }).is_some() =>
+            {
                 let other = if self.is(a, x) { b } else { a };
                 let (y, c) = self.scaled(other).unwrap_or((1.0, other));
                 let k = self.num(x * y);

@@ -9,7 +9,7 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Op {
+pub(crate) enum Op {
     Const(f64),
     Var(u16),
     Add(u32, u32),
@@ -34,14 +34,14 @@ enum Op {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Instr {
-    op: Op,
-    dst: u32,
+pub(crate) struct Instr {
+    pub(crate) op: Op,
+    pub(crate) dst: u32,
 }
 
 /// Where an output is read: a slot, or a constant known at compilation.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Out {
+pub(crate) enum Out {
     Slot(u32),
     Const(f64),
 }
@@ -183,6 +183,22 @@ impl Tape {
             .count()
     }
 
+    pub(crate) fn instructions(&self) -> &[Instr] {
+        &self.code
+    }
+
+    pub(crate) fn output_sources(&self) -> &[Out] {
+        &self.outputs
+    }
+
+    pub(crate) fn slots(&self) -> usize {
+        self.slots
+    }
+
+    pub(crate) fn vars(&self) -> usize {
+        self.vars
+    }
+
     /// Number of outputs.
     pub fn outputs(&self) -> usize {
         self.outputs.len()
@@ -270,7 +286,9 @@ fn schedule(code: Vec<Instr>) -> Vec<Instr> {
         .collect();
     let deps: Vec<Vec<usize>> = code
         .iter()
-        .map(|ins| operands(ins.op).iter().flatten().filter_map(|k| writer.get(k).copied()).collect())
+        .map(|ins| {
+            operands(ins.op).iter().flatten().filter_map(|k| writer.get(k).copied()).collect()
+        })
         .collect();
     let mut done = vec![false; n];
     let mut out: Vec<Instr> = Vec::with_capacity(n);

@@ -8,11 +8,11 @@ use crate::InputError;
 use crate::formula::derive::Derivative;
 use crate::formula::graph::Node;
 use crate::formula::parse::{Name, Names, parse};
-use crate::formula::{Func, Graph, Id, Tape};
+use crate::formula::{Func, Function, Graph, Id, Tape};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The passenger potential, compiled.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug)]
 pub enum Passenger {
     /// `U = u₀ + b·x + ½ xᵀH x` (every second derivative a constant).
     Quadratic {
@@ -23,19 +23,23 @@ pub enum Passenger {
         /// `∇²U`, n×n, row by row.
         h: Vec<f64>,
     },
-    /// Anything else: tapes for U, ∇U and ∇²U (upper triangle, row by row).
-    General {
-        /// `U`.
-        u: Tape,
-        /// `∇U`.
-        gradient: Tape,
-        /// `∇²U`'s upper triangle.
-        hessian: Tape,
-    },
+    /// Anything else: U, ∇U and ∇²U (upper triangle, row by row) compiled.
+    General(Box<GeneralPassenger>),
+}
+
+/// U, ∇U and ∇²U (upper triangle, row by row), compiled.
+#[derive(Debug)]
+pub struct GeneralPassenger {
+    /// `U`.
+    pub u: Function,
+    /// `∇U`.
+    pub gradient: Function,
+    /// `∇²U`'s upper triangle.
+    pub hessian: Function,
 }
 
 /// A system given as formulas, ready to run; see the module's doc.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug)]
 pub struct Compiled {
     /// Passenger coordinates n (the system has n + 1).
     pub n: usize,
@@ -46,7 +50,7 @@ pub struct Compiled {
     /// U.
     pub passenger: Passenger,
     /// `[V_d, V_d′, V_d″, A (r×n, row by row), dA/dζ (likewise)]` at ζ.
-    pub driver: Tape,
+    pub driver: Function,
     /// Identifies this compilation in the per-thread cache of driver terms.
     pub(crate) id: u64,
     /// ∇²U constant.
@@ -224,11 +228,12 @@ impl Compiled {
                 h,
             }
         } else {
-            Passenger::General {
-                u: Tape::compile(&pg, &[u], n),
-                gradient: Tape::compile(&pg, &gradient, n),
-                hessian: Tape::compile(&pg, &hessian, n),
-            }
+            let native = limits.native;
+            Passenger::General(Box::new(GeneralPassenger {
+                u: Function::new(Tape::compile(&pg, &[u], n), native),
+                gradient: Function::new(Tape::compile(&pg, &gradient, n), native),
+                hessian: Function::new(Tape::compile(&pg, &hessian, n), native),
+            }))
         };
         let latitude = n == 2
             && r == 1
@@ -245,7 +250,7 @@ impl Compiled {
             r,
             values,
             passenger,
-            driver: Tape::compile(&dg, &outputs, 1),
+            driver: Function::new(Tape::compile(&dg, &outputs, 1), limits.native),
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
             quadratic_passenger,
             quadratic_driver: dg.constant(vd2).is_some(),

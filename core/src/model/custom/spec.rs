@@ -32,10 +32,13 @@ pub struct CustomLimits {
     pub formula: Limits,
     /// Most parameters.
     pub max_parameters: usize,
+    /// Whether formulas are compiled to machine code (else only their tapes are
+    /// interpreted: the general path, for tests).
+    pub native: bool,
 }
 
 impl Default for CustomLimits {
     fn default() -> Self {
-        Self { formula: Limits::default(), max_parameters: 16 }
+        Self { formula: Limits::default(), max_parameters: 16, native: true }
     }
 }

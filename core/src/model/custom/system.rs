@@ -81,9 +81,9 @@ impl<const N: usize, const R: usize> System<N, R> for Custom<N, R> {
     fn passenger_potential(&self, q: &Vector<N>) -> f64 {
         match (&self.quadratic, &self.compiled.passenger) {
             (Some((u0, b, h)), _) => u0 + b.dot(q) + 0.5 * q.dot(&(h * q)),
-            (None, Passenger::General { u, .. }) => {
+            (None, Passenger::General(g)) => {
                 let mut out = [0.0];
-                u.eval(Self::x(q), &mut out);
+                g.u.eval(Self::x(q), &mut out);
                 out[0]
             }
             (None, Passenger::Quadratic { .. }) => f64::NAN,
@@ -92,9 +92,9 @@ impl<const N: usize, const R: usize> System<N, R> for Custom<N, R> {
     fn passenger_gradient(&self, q: &Vector<N>) -> Vector<N> {
         match (&self.quadratic, &self.compiled.passenger) {
             (Some((_, b, h)), _) => b + h * q,
-            (None, Passenger::General { gradient, .. }) => {
+            (None, Passenger::General(p)) => {
                 let mut g = Vector::<N>::zeros();
-                gradient.eval(Self::x(q), &mut g.as_mut_slice()[..N - 1]);
+                p.gradient.eval(Self::x(q), &mut g.as_mut_slice()[..N - 1]);
                 g
             }
             (None, Passenger::Quadratic { .. }) => Vector::<N>::repeat(f64::NAN),
@@ -103,10 +103,10 @@ impl<const N: usize, const R: usize> System<N, R> for Custom<N, R> {
     fn passenger_hessian(&self, q: &Vector<N>) -> Matrix<N, N> {
         match (&self.quadratic, &self.compiled.passenger) {
             (Some((_, _, h)), _) => *h,
-            (None, Passenger::General { hessian, .. }) => {
+            (None, Passenger::General(g)) => {
                 // The upper triangle of at most 6 × 6.
                 let mut upper = [0.0; 21];
-                hessian.eval(Self::x(q), &mut upper[..(N - 1) * N / 2]);
+                g.hessian.eval(Self::x(q), &mut upper[..(N - 1) * N / 2]);
                 let mut h = Matrix::<N, N>::zeros();
                 let mut k = 0;
                 for i in 0..N - 1 {

@@ -1,0 +1,54 @@
+//! [`Function`]: a compiled tape with, where the host allows, its machine code
+//! ([`Jitted`]): the fast path, run when present; the tape is the general path, kept to
+//! fall back on and to test the fast one against.
+
+use super::jit::Jitted;
+use super::tape::Tape;
+
+/// A tape and its machine code; see the module's doc.
+#[derive(Debug)]
+pub struct Function {
+    tape: Tape,
+    native: Option<Jitted>,
+}
+
+impl Function {
+    /// `tape`, compiled to machine code too when `native` (and the host supports it).
+    pub fn new(tape: Tape, native: bool) -> Self {
+        let native = if native { Jitted::compile(&tape).ok() } else { None };
+        Self { tape, native }
+    }
+
+    /// Whether machine code runs.
+    pub fn is_native(&self) -> bool {
+        self.native.is_some()
+    }
+
+    /// The tape.
+    pub fn tape(&self) -> &Tape {
+        &self.tape
+    }
+
+    /// Number of outputs.
+    pub fn outputs(&self) -> usize {
+        self.tape.outputs()
+    }
+
+    /// The outputs at `vars` into `out`.
+    #[inline]
+    pub fn eval(&self, vars: &[f64], out: &mut [f64]) {
+        match &self.native {
+            Some(code) => code.eval(vars, out),
+            None => self.tape.eval(vars, out),
+        }
+    }
+
+    /// [`eval`](Self::eval), the tape (if it runs) with the caller's slots.
+    #[inline]
+    pub fn eval_with(&self, vars: &[f64], slots: &mut Vec<f64>, out: &mut [f64]) {
+        match &self.native {
+            Some(code) => code.eval(vars, out),
+            None => self.tape.eval_with(vars, slots, out),
+        }
+    }
+}

@@ -1,0 +1,237 @@
+//! [`Jitted`]: a [`Tape`](super::Tape) compiled to machine code with Cranelift, the fast
+//! path beside the tape's interpreter (the general path, which it is tested against: the
+//! same instructions in the same order, so the same numbers bit for bit).
+//!
+//! An interpreter pays a dispatch and a trip through memory per instruction, several times
+//! the arithmetic itself; compiled, the values stay in registers. The code is a straight
+//! line of arithmetic and calls to the elementary functions: it reads its inputs, writes its
+//! outputs, and cannot loop or touch other memory. Where Cranelift does not support the host,
+//! compilation fails and the interpreter runs.
+
+use super::graph::Func;
+use super::tape::{Op, Out, Tape};
+use cranelift_codegen::Context;
+use cranelift_codegen::ir::{AbiParam, InstBuilder, MemFlags, StackSlotData, StackSlotKind, types};
+use cranelift_codegen::settings::{self, Configurable};
+use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
+use cranelift_jit::{JITBuilder, JITModule};
+use cranelift_module::{Linkage, Module, default_libcall_names};
+
+/// Compiled code: `f(vars, out)`.
+type Code = unsafe extern "C" fn(*const f64, *mut f64);
+
+/// A tape as machine code; see the module's doc.
+pub struct Jitted {
+    code: Code,
+    vars: usize,
+    outputs: usize,
+    /// Owns the code's memory, freed on drop.
+    module: Option<JITModule>,
+}
+
+// SAFETY: after `finalize_definitions` the module is never mutated again, only dropped; the
+// code it holds is immutable and reads and writes only the buffers passed to each call.
+unsafe impl Send for Jitted {}
+// SAFETY: as above; calling the code from several threads at once shares nothing.
+unsafe impl Sync for Jitted {}
+
+impl Drop for Jitted {
+    fn drop(&mut self) {
+        if let Some(module) = self.module.take() {
+            // SAFETY: the function pointer dies with `self`; nothing calls it after this.
+            unsafe { module.free_memory() };
+        }
+    }
+}
+
+impl std::fmt::Debug for Jitted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Jitted").field("vars", &self.vars).field("outputs", &self.outputs).finish()
+    }
+}
+
+extern "C" fn powi(x: f64, k: i32) -> f64 {
+    x.powi(k)
+}
+extern "C" fn powf(x: f64, y: f64) -> f64 {
+    x.powf(y)
+}
+extern "C" fn call(f: i32, x: f64) -> f64 {
+    Func::ALL[f as usize].1.apply(x)
+}
+/// `sin x` and `cos x` into `out[0]`, `out[1]`.
+///
+/// # Safety
+/// `out` points to two writable doubles (a stack slot of the compiled code).
+unsafe extern "C" fn sin_cos(x: f64, out: *mut f64) {
+    let (s, c) = x.sin_cos();
+    // SAFETY: by the contract above.
+    unsafe {
+        *out = s;
+        *out.add(1) = c;
+    }
+}
+
+impl Jitted {
+    /// Compiles `tape`, or says why it could not.
+    pub fn compile(tape: &Tape) -> Result<Self, String> {
+        let mut flags = settings::builder();
+        flags.set("opt_level", "speed").map_err(|e| e.to_string())?;
+        let isa = cranelift_native::builder()?
+            .finish(settings::Flags::new(flags))
+            .map_err(|e| e.to_string())?;
+        let mut module = JITModule::new(JITBuilder::with_isa(isa, default_libcall_names()));
+        let ptr = module.target_config().pointer_type();
+        let mut sig = module.make_signature();
+        sig.params.extend([AbiParam::new(ptr), AbiParam::new(ptr)]);
+        let id =
+            module.declare_function("tape", Linkage::Local, &sig).map_err(|e| e.to_string())?;
+        let mut ctx = Context::new();
+        ctx.func.signature = sig;
+        let mut fctx = FunctionBuilderContext::new();
+        {
+            let mut b = FunctionBuilder::new(&mut ctx.func, &mut fctx);
+            let block = b.create_block();
+            b.append_block_params_for_function_params(block);
+            b.switch_to_block(block);
+            b.seal_block(block);
+            let (vars, out) = (b.block_params(block)[0], b.block_params(block)[1]);
+            let f64t = types::F64;
+            let mut s1 = module.make_signature();
+            s1.params.push(AbiParam::new(f64t));
+            s1.params.push(AbiParam::new(types::I32));
+            s1.returns.push(AbiParam::new(f64t));
+            let powi_sig = b.import_signature(s1.clone());
+            let mut s2 = module.make_signature();
+            s2.params.extend([AbiParam::new(f64t), AbiParam::new(f64t)]);
+            s2.returns.push(AbiParam::new(f64t));
+            let powf_sig = b.import_signature(s2);
+            let mut s3 = module.make_signature();
+            s3.params.extend([AbiParam::new(types::I32), AbiParam::new(f64t)]);
+            s3.returns.push(AbiParam::new(f64t));
+            let call_sig = b.import_signature(s3);
+            let mut s4 = module.make_signature();
+            s4.params.extend([AbiParam::new(f64t), AbiParam::new(ptr)]);
+            let sin_cos_sig = b.import_signature(s4);
+            let pair =
+                b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 16, 3));
+            let flags = MemFlags::trusted();
+            let mut slot = vec![None; tape.slots()];
+            let get = |slot: &Vec<Option<_>>, k: u32| {
+                slot[k as usize].ok_or("a slot read before written")
+            };
+            for ins in tape.instructions() {
+                let v = match ins.op {
+                    Op::Const(c) => b.ins().f64const(c),
+                    Op::Var(i) => b.ins().load(f64t, flags, vars, 8 * i as i32),
+                    Op::Add(x, y) => {
+                        let (x, y) = (get(&slot, x)?, get(&slot, y)?);
+                        b.ins().fadd(x, y)
+                    }
+                    Op::Sub(x, y) => {
+                        let (x, y) = (get(&slot, x)?, get(&slot, y)?);
+                        b.ins().fsub(x, y)
+                    }
+                    Op::Mul(x, y) => {
+                        let (x, y) = (get(&slot, x)?, get(&slot, y)?);
+                        b.ins().fmul(x, y)
+                    }
+                    Op::Div(x, y) => {
+                        let (x, y) = (get(&slot, x)?, get(&slot, y)?);
+                        b.ins().fdiv(x, y)
+                    }
+                    Op::AddK(x, k) => {
+                        let (x, k) = (get(&slot, x)?, b.ins().f64const(k));
+                        b.ins().fadd(x, k)
+                    }
+                    Op::SubK(x, k) => {
+                        let (x, k) = (get(&slot, x)?, b.ins().f64const(k));
+                        b.ins().fsub(x, k)
+                    }
+                    Op::KSub(k, x) => {
+                        let (x, k) = (get(&slot, x)?, b.ins().f64const(k));
+                        b.ins().fsub(k, x)
+                    }
+                    Op::MulK(x, k) => {
+                        let (x, k) = (get(&slot, x)?, b.ins().f64const(k));
+                        b.ins().fmul(x, k)
+                    }
+                    Op::DivK(x, k) => {
+                        let (x, k) = (get(&slot, x)?, b.ins().f64const(k));
+                        b.ins().fdiv(x, k)
+                    }
+                    Op::KDiv(k, x) => {
+                        let (x, k) = (get(&slot, x)?, b.ins().f64const(k));
+                        b.ins().fdiv(k, x)
+                    }
+                    Op::Neg(x) => {
+                        let x = get(&slot, x)?;
+                        b.ins().fneg(x)
+                    }
+                    Op::Square(x) => {
+                        let x = get(&slot, x)?;
+                        b.ins().fmul(x, x)
+                    }
+                    Op::PowI(x, k) => {
+                        let x = get(&slot, x)?;
+                        let k = b.ins().iconst(types::I32, k as i64);
+                        let f = b.ins().iconst(ptr, powi as *const () as usize as i64);
+                        let c = b.ins().call_indirect(powi_sig, f, &[x, k]);
+                        b.inst_results(c)[0]
+                    }
+                    Op::Pow(x, y) => {
+                        let (x, y) = (get(&slot, x)?, get(&slot, y)?);
+                        let f = b.ins().iconst(ptr, powf as *const () as usize as i64);
+                        let c = b.ins().call_indirect(powf_sig, f, &[x, y]);
+                        b.inst_results(c)[0]
+                    }
+                    Op::Call(func, x) => {
+                        let x = get(&slot, x)?;
+                        let index = Func::ALL.iter().position(|(_, f)| *f == func).unwrap_or(0);
+                        let which = b.ins().iconst(types::I32, index as i64);
+                        let f = b.ins().iconst(ptr, call as *const () as usize as i64);
+                        let c = b.ins().call_indirect(call_sig, f, &[which, x]);
+                        b.inst_results(c)[0]
+                    }
+                    Op::SinCos(x, cos) => {
+                        let x = get(&slot, x)?;
+                        let at = b.ins().stack_addr(ptr, pair, 0);
+                        let f = b.ins().iconst(ptr, sin_cos as *const () as usize as i64);
+                        b.ins().call_indirect(sin_cos_sig, f, &[x, at]);
+                        let c = b.ins().stack_load(f64t, pair, 8);
+                        slot[cos as usize] = Some(c);
+                        b.ins().stack_load(f64t, pair, 0)
+                    }
+                };
+                slot[ins.dst as usize] = Some(v);
+            }
+            for (k, o) in tape.output_sources().iter().enumerate() {
+                let v = match *o {
+                    Out::Slot(s) => get(&slot, s)?,
+                    Out::Const(c) => b.ins().f64const(c),
+                };
+                b.ins().store(flags, v, out, 8 * k as i32);
+            }
+            b.ins().return_(&[]);
+            b.finalize();
+        }
+        module.define_function(id, &mut ctx).map_err(|e| e.to_string())?;
+        module.finalize_definitions().map_err(|e| e.to_string())?;
+        let raw = module.get_finalized_function(id);
+        // SAFETY: `raw` is the function just defined, with the signature of `Code`.
+        let code = unsafe { std::mem::transmute::<*const u8, Code>(raw) };
+        Ok(Self { code, vars: tape.vars(), outputs: tape.outputs(), module: Some(module) })
+    }
+
+    /// Evaluates the outputs at `vars` into `out`, as [`Tape::eval`] does.
+    #[inline]
+    pub fn eval(&self, vars: &[f64], out: &mut [f64]) {
+        assert!(
+            vars.len() >= self.vars && out.len() >= self.outputs,
+            "a tape's inputs and outputs"
+        );
+        // SAFETY: the code reads `self.vars` doubles from `vars` and writes `self.outputs` to
+        // `out`, both within the slices (asserted above).
+        unsafe { (self.code)(vars.as_ptr(), out.as_mut_ptr()) }
+    }
+}
