@@ -54,7 +54,7 @@ fn report<S: BuiltIn<N, R>, const N: usize, const R: usize>(steps: usize) {
                 general_dh += (energy(&b).0 - h0) / scale;
                 taken += 1;
                 (st, memory) = (b, b_mem);
-                if S::ZETA_IS_ANGLE {
+                if sys.zeta_is_angle() {
                     st.take_whole_turns(&mut memory);
                 }
             }

@@ -1,6 +1,6 @@
 //! Every system's hand-written derivatives against central finite differences, its kernel
 //! against its constraint, its presets against the constraints, the periodicity in ζ that
-//! `ZETA_IS_ANGLE` declares, the quadratic U and V_d that `quadratic_passenger` and
+//! `zeta_is_angle` declares, the quadratic U and V_d that `quadratic_passenger` and
 //! `quadratic_driver` declare, the absent U that `free_passenger` declares, and its driver
 //! terms from sin/cos against the plain functions.
 
@@ -78,7 +78,7 @@ fn check<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
                 let affine = sys.driver_potential_d1(0.0) + d2 * z;
                 assert!((sys.driver_potential_d1(z) - affine).abs() < 1e-14, "{id}: V_d' at {z}");
             }
-            if S::ZETA_IS_ANGLE {
+            if sys.zeta_is_angle() {
                 // What the reference solve relies on when it takes whole turns off ζ.
                 let turned = q + Vector::<N>::from_fn(|i, _| if i == N - 1 { TAU } else { 0.0 });
                 assert!((sys.constraint(z + TAU) - a).amax() < 1e-12, "{id}: A not 2π-periodic");

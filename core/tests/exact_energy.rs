@@ -30,7 +30,7 @@ fn energy_error<S: BuiltIn<N, R>, const N: usize, const R: usize>(
     let (mut worst, mut scale): (f64, f64) = (0.0, 0.0);
     for _ in 0..STEPS {
         m.step(&sys, &mut st, &mut memory, h).unwrap();
-        if S::ZETA_IS_ANGLE {
+        if sys.zeta_is_angle() {
             st.take_whole_turns(&mut memory);
         }
         worst = worst.max((sys.energy(&st.q, &st.v) - h0).abs());

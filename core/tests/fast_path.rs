@@ -132,7 +132,7 @@ fn mean_energy_change<S: BuiltIn<N, R>, const N: usize, const R: usize>(
         fast_sum += (energy(&a).0 - h0) / scale;
         general_sum += (energy(&b).0 - h0) / scale;
         (st, memory) = (b, b_mem);
-        if S::ZETA_IS_ANGLE {
+        if sys.zeta_is_angle() {
             st.take_whole_turns(&mut memory);
         }
     }

@@ -50,7 +50,7 @@ fn stops_where_iterating_on_would<S: BuiltIn<N, R>, const N: usize, const R: usi
             let step = |method: &Method, st: &mut State<N, R>, memory: &mut MethodMemory<N, R>| {
                 // Whole turns off ζ first, as runs take them (the rotating driver's ζ grows),
                 // on the state both steps start from.
-                if S::ZETA_IS_ANGLE {
+                if sys.zeta_is_angle() {
                     st.take_whole_turns(memory);
                 }
                 // DLA^1 gains energy and, on `anharmonic_cvt`'s stiffening spring, runs away

@@ -27,7 +27,9 @@ impl<S: BuiltIn<N, R>, const N: usize, const R: usize> BuiltIn<N, R> for General
 }
 
 impl<S: BuiltIn<N, R>, const N: usize, const R: usize> System<N, R> for General<S> {
-    const ZETA_IS_ANGLE: bool = S::ZETA_IS_ANGLE;
+    fn zeta_is_angle(&self) -> bool {
+        self.0.zeta_is_angle()
+    }
     fn passenger_potential(&self, q: &Vector<N>) -> f64 {
         self.0.passenger_potential(q)
     }

@@ -52,7 +52,8 @@ impl CustomSystem {
         let c = &self.compiled;
         let (n, r) = (c.n, c.r);
         let mut terms = vec![0.0; c.driver.outputs()];
-        c.driver.eval(&[q[n]], &mut terms);
+        let (sin, cos) = q[n].sin_cos();
+        c.driver.eval(&[q[n], sin, cos], &mut terms);
         let not_finite = |field: String, what: &str, value: f64| InputError::CustomSystem {
             field,
             message: format!("{what} is {} at the initial state", Short(value)),

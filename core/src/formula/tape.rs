@@ -62,11 +62,18 @@ thread_local! {
 impl Tape {
     /// Compiles `outputs` of `g`, which reads variables `0..vars`.
     pub fn compile(g: &Graph, outputs: &[Id], vars: usize) -> Self {
+        Self::compile_reading(g, outputs, vars, &[])
+    }
+
+    /// [`compile`](Self::compile), each node of `inputs` read from its variable rather than
+    /// computed (`sin ζ` and `cos ζ` given by the caller, say).
+    pub fn compile_reading(g: &Graph, outputs: &[Id], vars: usize, inputs: &[(Id, u16)]) -> Self {
+        let input = |n: Id| inputs.iter().find(|(i, _)| *i == n).map(|p| p.1);
         // The nodes the outputs need, in the graph's order (children first).
         let mut needed = vec![false; g.len()];
         let mut stack: Vec<Id> = outputs.to_vec();
         while let Some(n) = stack.pop() {
-            if std::mem::replace(&mut needed[n.0 as usize], true) {
+            if std::mem::replace(&mut needed[n.0 as usize], true) || input(n).is_some() {
                 continue;
             }
             match g.node(n) {
@@ -87,7 +94,7 @@ impl Tape {
         }
         // The sine and cosine of each argument, where both are needed.
         let mut trig: HashMap<Id, [Option<Id>; 2]> = HashMap::new();
-        for &n in &order {
+        for &n in order.iter().filter(|&&n| input(n).is_none()) {
             match g.node(n) {
                 Node::Call(Func::Sin, a) => trig.entry(a).or_default()[0] = Some(n),
                 Node::Call(Func::Cos, a) => trig.entry(a).or_default()[1] = Some(n),
@@ -98,6 +105,10 @@ impl Tape {
         let k = |id: Id| g.constant(id);
         let mut code = Vec::with_capacity(order.len());
         for &n in &order {
+            if let Some(var) = input(n) {
+                code.push(Instr { op: Op::Var(var), dst: s(n) });
+                continue;
+            }
             let op = match g.node(n) {
                 Node::Const(bits) => Op::Const(f64::from_bits(bits)),
                 Node::Var(i) => Op::Var(i),

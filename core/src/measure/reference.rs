@@ -5,7 +5,7 @@
 //! tested against the exact knife-edge solution and by tolerance halving. It drifts off the
 //! constraint like any non-geometric method, so its constraint residual is reported with it.
 //!
-//! Where ζ is an angle ([`System::ZETA_IS_ANGLE`]) the solve restarts every [`SEGMENT`] time
+//! Where ζ is an angle ([`System::zeta_is_angle`]) the solve restarts every [`SEGMENT`] time
 //! units with ζ brought back near 0 by whole turns (counted, and added back at the end). A
 //! rotating driver otherwise reaches ζ ≈ 7000 on the paper's rotating CVT: each step then
 //! rounds ζ to 10⁻¹², and a relative tolerance on ζ lets 10⁻⁹ per step through; together
@@ -152,7 +152,7 @@ pub fn reference_until<S: System<N, R>, const N: usize, const R: usize>(
     let track = RefCell::new(Track::default());
     let (mut t, mut turns, mut evaluations, mut steps, mut stored) = (0.0, 0.0, 0, 0, 0);
     while t < t_end {
-        let t1 = if S::ZETA_IS_ANGLE { (t + SEGMENT).min(t_end) } else { t_end };
+        let t1 = if sys.zeta_is_angle() { (t + SEGMENT).min(t_end) } else { t_end };
         // Dop853 picks the first step of a segment; a solver that continues one takes the
         // last step size.
         let (mut x, mut h) = (t, 0.0);
@@ -204,7 +204,7 @@ pub fn reference_until<S: System<N, R>, const N: usize, const R: usize>(
             }
             (x, h) = (xs[xs.len() - 1], xs[xs.len() - 1] - xs[xs.len() - 2]);
         }
-        if S::ZETA_IS_ANGLE {
+        if sys.zeta_is_angle() {
             let k = (y[N - 1] / TAU).round();
             y[N - 1] -= k * TAU;
             turns += k;

@@ -137,7 +137,7 @@ pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
     // Where ζ is an angle the state keeps it within a turn, and counts the turns taken off
     // here, for what needs ζ as the run started it (the latitude's sections, the final state).
     let take_turns = |st: &mut State<N, R>, memory: &mut M::Memory<N, R>| {
-        if S::ZETA_IS_ANGLE { st.take_whole_turns(memory) } else { 0.0 }
+        if sys.zeta_is_angle() { st.take_whole_turns(memory) } else { 0.0 }
     };
     let mut turns = take_turns(&mut st, &mut memory);
     let energies = problem.integrals.iter().any(|&i| index_of(i) < 3);

@@ -10,5 +10,5 @@ use crate::model::system::System;
 /// the sines and cosines that both paths evaluate hold the fast paths under 2×, so those
 /// systems take the general solve.
 pub fn coupled_fast_path<S: System<N, R>, const N: usize, const R: usize>(sys: &S) -> bool {
-    sys.quadratic_passenger() && sys.quadratic_driver() && !S::ZETA_IS_ANGLE
+    sys.quadratic_passenger() && sys.quadratic_driver() && !sys.zeta_is_angle()
 }

@@ -230,7 +230,9 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     }
     /// Whether ζ is an angle: `A` and `V_d` are 2π-periodic in it (U never depends on ζ).
     /// The reference solve then keeps ζ near 0 by whole turns, which keeps its rounding small.
-    const ZETA_IS_ANGLE: bool = false;
+    fn zeta_is_angle(&self) -> bool {
+        false
+    }
     /// Whether `V_d` is 2π-periodic, so that a rotating driver returns to its section.
     fn driver_is_periodic(&self) -> bool {
         false
@@ -240,7 +242,7 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     /// `sin_cos`), from the functions above otherwise.
     #[inline]
     fn driver_terms(&self, zeta: f64) -> DriverTerms<N, R> {
-        if Self::ZETA_IS_ANGLE {
+        if self.zeta_is_angle() {
             let (s, c) = zeta.sin_cos();
             self.driver_terms_trig(zeta, s, c)
         } else {
@@ -248,7 +250,7 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
         }
     }
     /// [`DriverTerms`] at ζ given `sin ζ` and `cos ζ`. A system whose ζ is an angle
-    /// (`ZETA_IS_ANGLE`) computes them from these, so that a Newton iteration can carry the
+    /// (`zeta_is_angle`) computes them from these, so that a Newton iteration can carry the
     /// sine and cosine from one iterate to the next by a small rotation instead of calling
     /// `sin_cos` (`AngleTracker`); the default evaluates the functions above and ignores them
     /// (so an angle system that writes those functions through `driver_terms` must implement

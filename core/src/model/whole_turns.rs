@@ -1,6 +1,6 @@
 //! Whole turns of an angle ζ, taken off the state and counted.
 //!
-//! Where ζ is an angle ([`ZETA_IS_ANGLE`](crate::System::ZETA_IS_ANGLE): `A` and `V_d` are
+//! Where ζ is an angle ([`zeta_is_angle`](crate::System::zeta_is_angle): `A` and `V_d` are
 //! 2π-periodic and `U` does not depend on ζ) the driver ([`crate::measure::simulate::run`]) keeps ζ
 //! within [−π, π]: ζ is stored to ulp(ζ) and the systems' functions see only the stored value, so
 //! on a rotating driver, where ζ grows without bound, their inputs lost digits as the run went on.
@@ -18,7 +18,7 @@ use std::f64::consts::{PI, TAU};
 
 impl<const N: usize, const R: usize> State<N, R> {
     /// Takes whole turns off ζ once it has left [−π, π], for a system whose ζ is an angle
-    /// ([`ZETA_IS_ANGLE`](crate::System::ZETA_IS_ANGLE): `A` and `V_d` are 2π-periodic and `U`
+    /// ([`zeta_is_angle`](crate::System::zeta_is_angle): `A` and `V_d` are 2π-periodic and `U`
     /// does not depend on ζ, so the steps and the integrals are those of the same state), and
     /// rekeys to the new q what `memory` had keyed by the old one. Returns the turns taken.
     ///

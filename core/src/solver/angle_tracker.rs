@@ -113,7 +113,7 @@ impl AngleTracker {
         sys: &S,
         zeta: f64,
     ) -> DriverTerms<N, R> {
-        if S::ZETA_IS_ANGLE {
+        if sys.zeta_is_angle() {
             let (s, c) = self.sin_cos(zeta);
             sys.driver_terms_trig(zeta, s, c)
         } else {

@@ -9,6 +9,7 @@ use crate::formula::derive::Derivative;
 use crate::formula::graph::Node;
 use crate::formula::parse::{Name, Names, parse};
 use crate::formula::{Func, Function, Graph, Id, Tape};
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The passenger potential, compiled.
@@ -65,6 +66,10 @@ pub struct Compiled {
     /// The latitude's definition holds (`docs/model.md` §5): two passengers, one
     /// constraint, `U = ½|x|²` up to a constant.
     pub latitude: bool,
+    /// ζ enters V_d and A only through `sin ζ` and `cos ζ`: ζ is an angle
+    /// ([`System::zeta_is_angle`](crate::System::zeta_is_angle)), and the driver's code reads
+    /// `[ζ, sin ζ, cos ζ]` rather than `[ζ]`.
+    pub angle: bool,
 }
 
 static NEXT_ID: AtomicU64 = AtomicU64::new(1);
@@ -239,24 +244,35 @@ impl Compiled {
             && r == 1
             && matches!(&passenger, Passenger::Quadratic { b, h, .. }
                 if b.iter().all(|&x| x == 0.0) && h == &[1.0, 0.0, 0.0, 1.0]);
-        let mut seen = std::collections::HashMap::new();
+        let mut seen = HashMap::new();
         let periodic =
             std::iter::once(vd).chain(a.iter().copied()).all(|e| periodic(&dg, e, &mut seen));
         let mut outputs = vec![vd, vd1, vd2];
         outputs.extend(&a);
         outputs.extend(&da);
+        let zeta = dg.var(0);
+        let trig = [(dg.call(Func::Sin, zeta), 1), (dg.call(Func::Cos, zeta), 2)];
+        let angle = std::iter::once(vd).chain(a.iter().copied()).all(|e| {
+            !dg.depends_on(e, 0) || through(&dg, e, &[trig[0].0, trig[1].0], &mut HashMap::new())
+        });
+        let driver = if angle {
+            Tape::compile_reading(&dg, &outputs, 3, &trig)
+        } else {
+            Tape::compile(&dg, &outputs, 1)
+        };
         Ok(Self {
             n,
             r,
             values,
             passenger,
-            driver: Function::new(Tape::compile(&dg, &outputs, 1), limits.native),
+            driver: Function::new(driver, limits.native),
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
             quadratic_passenger,
             quadratic_driver: dg.constant(vd2).is_some(),
             free_passenger,
             periodic,
             latitude,
+            angle,
         })
     }
 }
@@ -340,10 +356,30 @@ fn check_shape(spec: &FormulaSpec, limits: &CustomLimits) -> Result<(usize, usiz
     Ok((n, r))
 }
 
+/// Whether variable 0 enters `e` only through the nodes `via`.
+fn through(g: &Graph, e: Id, via: &[Id], seen: &mut HashMap<Id, bool>) -> bool {
+    if via.contains(&e) {
+        return true;
+    }
+    if let Some(&known) = seen.get(&e) {
+        return known;
+    }
+    let answer = match g.node(e) {
+        Node::Var(0) => false,
+        Node::Const(_) | Node::Var(_) => true,
+        Node::Neg(a) | Node::PowI(a, _) | Node::Call(_, a) => through(g, a, via, seen),
+        Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) | Node::Pow(a, b) => {
+            through(g, a, via, seen) && through(g, b, via, seen)
+        }
+    };
+    seen.insert(e, answer);
+    answer
+}
+
 /// Whether `e` is 2π-periodic in variable 0 by its form: the variable appears only inside
 /// `sin`, `cos` or `tan` of an integer multiple of it plus a constant. Each node is looked
 /// at once (`seen`), as nodes are shared.
-fn periodic(g: &Graph, e: Id, seen: &mut std::collections::HashMap<Id, bool>) -> bool {
+fn periodic(g: &Graph, e: Id, seen: &mut HashMap<Id, bool>) -> bool {
     if let Some(&known) = seen.get(&e) {
         return known;
     }

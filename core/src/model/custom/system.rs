@@ -1,11 +1,12 @@
 //! [`Custom`]: a compiled system given as formulas, as a [`System`] of fixed sizes.
 //!
 //! Where U is quadratic it is evaluated as `u₀ + b·x + ½ xᵀH x` with fixed-size vectors, as
-//! a built-in's; otherwise through its tapes. The driver's terms come from one tape per ζ
-//! ([`driver_cache`](super::driver_cache)).
+//! a built-in's; otherwise through its compiled formulas. The driver's terms come from one
+//! evaluation per ζ ([`driver_cache`](super::driver_cache)); where ζ is an angle, from
+//! `sin ζ` and `cos ζ` as the methods carry them, as for the built-in angle systems.
 
 use super::compile::{Compiled, Passenger};
-use super::driver_cache::with_driver_terms;
+use super::driver_cache::{MAX_OUTPUTS, with_driver_terms};
 use crate::model::system::{DriverTerms, System};
 use crate::{Matrix, Vector};
 use std::sync::Arc;
@@ -77,6 +78,9 @@ impl<const N: usize, const R: usize> System<N, R> for Custom<N, R> {
     fn driver_is_periodic(&self) -> bool {
         self.compiled.periodic
     }
+    fn zeta_is_angle(&self) -> bool {
+        self.compiled.angle
+    }
 
     fn passenger_potential(&self, q: &Vector<N>) -> f64 {
         match (&self.quadratic, &self.compiled.passenger) {
@@ -138,8 +142,16 @@ impl<const N: usize, const R: usize> System<N, R> for Custom<N, R> {
     fn driver_terms(&self, zeta: f64) -> DriverTerms<N, R> {
         with_driver_terms(&self.compiled, zeta, Self::terms_from)
     }
-    fn driver_terms_trig(&self, zeta: f64, _sin: f64, _cos: f64) -> DriverTerms<N, R> {
-        self.driver_terms(zeta)
+    fn driver_terms_trig(&self, zeta: f64, sin: f64, cos: f64) -> DriverTerms<N, R> {
+        if self.compiled.angle {
+            // A Newton iteration's inputs are new each time: evaluated here, not kept.
+            let mut values = [0.0; MAX_OUTPUTS];
+            let k = self.compiled.driver.outputs();
+            self.compiled.driver.eval(&[zeta, sin, cos], &mut values[..k]);
+            Self::terms_from(&values)
+        } else {
+            self.driver_terms(zeta)
+        }
     }
     /// `(−a₂, a₁)/|a|` for one constraint on two passengers (the latitude's only use, signed as
     /// the CVTs'); zero for other sizes, where nhlab does not offer the latitude.

@@ -72,7 +72,9 @@ impl BuiltIn<3, 1> for AnharmonicCvt {
 }
 
 impl System<3, 1> for AnharmonicCvt {
-    const ZETA_IS_ANGLE: bool = true;
+    fn zeta_is_angle(&self) -> bool {
+        true
+    }
     fn passenger_potential(&self, q: &Vector<3>) -> f64 {
         let r2 = q[0] * q[0] + q[1] * q[1];
         0.5 * r2 + 0.25 * self.kappa * r2 * r2

@@ -91,7 +91,9 @@ impl System<3, 1> for CvtPendulum {
     fn quadratic_passenger(&self) -> bool {
         true
     }
-    const ZETA_IS_ANGLE: bool = true;
+    fn zeta_is_angle(&self) -> bool {
+        true
+    }
     fn passenger_potential(&self, q: &Vector<3>) -> f64 {
         0.5 * (q[0] * q[0] + q[1] * q[1])
     }

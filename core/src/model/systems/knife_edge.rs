@@ -78,7 +78,9 @@ impl System<3, 1> for KnifeEdge {
     fn quadratic_driver(&self) -> bool {
         true
     }
-    const ZETA_IS_ANGLE: bool = true;
+    fn zeta_is_angle(&self) -> bool {
+        true
+    }
     fn passenger_potential(&self, q: &Vector<3>) -> f64 {
         -q[0]
     }

@@ -50,7 +50,9 @@ impl System<4, 2> for MobileRobot {
     fn free_passenger(&self) -> bool {
         true
     }
-    const ZETA_IS_ANGLE: bool = true;
+    fn zeta_is_angle(&self) -> bool {
+        true
+    }
     fn passenger_potential(&self, _q: &Vector<4>) -> f64 {
         0.0
     }
