@@ -200,3 +200,36 @@ fn sine_and_cosine_of_one_argument_are_one_sin_cos_and_double_angles_share_it() 
     // sin x and cos x: one sin_cos, shared by V, V′ and the double angles.
     assert_eq!(tape.calls(), 1, "{tape:?}");
 }
+
+/// The largest system the limits allow compiles: six passengers, a U of nearly 2,000
+/// characters (its Hessian has 21 entries), five constraints. Its tapes are scheduled and
+/// compiled in time linear-logarithmic in their length, and one evaluation agrees with the
+/// graph it came from.
+#[test]
+fn the_largest_system_the_limits_allow_compiles() {
+    use nhlab_core::{CustomLimits, CustomSystem, FormulaSpec};
+    let names = ["a", "b", "c", "d", "e", "f"];
+    let mut u = String::from("0");
+    let mut i = 0;
+    while u.len() < 1900 {
+        let (x, y) = (names[i % 6], names[(i + 1) % 6]);
+        u.push_str(&format!("+sin({x}*{y}+{i})*exp(cos({y})/3)"));
+        i += 1;
+    }
+    let spec = FormulaSpec {
+        name: "large".into(),
+        passenger: names.iter().map(|s| s.to_string()).collect(),
+        driver: "z".into(),
+        parameters: Vec::new(),
+        passenger_potential: u,
+        driver_potential: "1 - cos(z)".into(),
+        constraints: (0..5)
+            .map(|r| {
+                (0..6).map(|j| if j == r { "1".into() } else { format!("sin({j}*z)") }).collect()
+            })
+            .collect(),
+    };
+    let c = CustomSystem::compile(&spec, &[], &CustomLimits::default()).unwrap();
+    assert!(!c.compiled.quadratic_passenger);
+    c.check_start(&[0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.0]).unwrap();
+}

@@ -26,7 +26,7 @@ impl Derivative {
             if self.done.contains_key(&n) {
                 continue;
             }
-            let children = children(g.node(n));
+            let children = g.node(n).children();
             if !children_done {
                 stack.push((n, true));
                 stack.extend(children.iter().flatten().map(|&c| (c, false)));
@@ -115,17 +115,6 @@ impl Derivative {
                 };
                 g.mul(outer, self.d(a))
             }
-        }
-    }
-}
-
-/// A node's children.
-fn children(node: Node) -> [Option<Id>; 2] {
-    match node {
-        Node::Const(_) | Node::Var(_) => [None, None],
-        Node::Neg(a) | Node::PowI(a, _) | Node::Call(_, a) => [Some(a), None],
-        Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) | Node::Pow(a, b) => {
-            [Some(a), Some(b)]
         }
     }
 }

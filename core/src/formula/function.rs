@@ -5,6 +5,9 @@
 use super::jit::Jitted;
 use super::tape::Tape;
 
+/// Most instructions of a tape compiled to machine code.
+pub const MAX_NATIVE: usize = 4096;
+
 /// A tape and its machine code; see the module's doc.
 #[derive(Debug)]
 pub struct Function {
@@ -13,8 +16,11 @@ pub struct Function {
 }
 
 impl Function {
-    /// `tape`, compiled to machine code too when `native` (and the host supports it).
+    /// `tape`, compiled to machine code too when `native`, the host supports it and the tape
+    /// has at most [`MAX_NATIVE`] instructions (compiling takes time in their number, and a
+    /// tape that long is dominated by its own arithmetic anyway).
     pub fn new(tape: Tape, native: bool) -> Self {
+        let native = native && tape.len() <= MAX_NATIVE;
         let native = if native { Jitted::compile(&tape).ok() } else { None };
         Self { tape, native }
     }

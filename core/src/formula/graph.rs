@@ -98,6 +98,21 @@ pub enum Node {
     Call(Func, Id),
 }
 
+impl Node {
+    /// The nodes it is computed from.
+    pub fn children(self) -> [Option<Id>; 2] {
+        match self {
+            Node::Const(_) | Node::Var(_) => [None, None],
+            Node::Neg(a) | Node::PowI(a, _) | Node::Call(_, a) => [Some(a), None],
+            Node::Add(a, b)
+            | Node::Sub(a, b)
+            | Node::Mul(a, b)
+            | Node::Div(a, b)
+            | Node::Pow(a, b) => [Some(a), Some(b)],
+        }
+    }
+}
+
 /// Largest integer exponent written as repeated products (`PowI`) rather than `powf`.
 const MAX_POWI: f64 = 64.0;
 
@@ -338,16 +353,11 @@ impl Graph {
             if std::mem::replace(&mut seen[n.0 as usize], true) {
                 continue;
             }
-            match self.node(n) {
-                Node::Var(i) if i == var => return true,
-                Node::Const(_) | Node::Var(_) => {}
-                Node::Neg(a) | Node::PowI(a, _) | Node::Call(_, a) => stack.push(a),
-                Node::Add(a, b)
-                | Node::Sub(a, b)
-                | Node::Mul(a, b)
-                | Node::Div(a, b)
-                | Node::Pow(a, b) => stack.extend([a, b]),
+            let node = self.node(n);
+            if node == Node::Var(var) {
+                return true;
             }
+            stack.extend(node.children().into_iter().flatten());
         }
         false
     }

@@ -76,15 +76,7 @@ impl Tape {
             if std::mem::replace(&mut needed[n.0 as usize], true) || input(n).is_some() {
                 continue;
             }
-            match g.node(n) {
-                Node::Const(_) | Node::Var(_) => {}
-                Node::Neg(a) | Node::PowI(a, _) | Node::Call(_, a) => stack.push(a),
-                Node::Add(a, b)
-                | Node::Sub(a, b)
-                | Node::Mul(a, b)
-                | Node::Div(a, b)
-                | Node::Pow(a, b) => stack.extend([a, b]),
-            }
+            stack.extend(g.node(n).children().into_iter().flatten());
         }
         let mut slot = HashMap::new();
         let mut order = Vec::new();
@@ -136,34 +128,30 @@ impl Tape {
                 Node::PowI(a, 2) => Op::Square(s(a)),
                 Node::PowI(a, k) => Op::PowI(s(a), k),
                 Node::Pow(a, b) => Op::Pow(s(a), s(b)),
+                // Where both are needed, one SinCos at the first of the two computes both
+                // (each needs only `a`, computed before either).
                 Node::Call(f @ (Func::Sin | Func::Cos), a) => match trig[&a] {
-                    [Some(_), Some(cos)] if f == Func::Sin => Op::SinCos(s(a), s(cos)),
-                    [Some(_), Some(_)] => continue, // written by the sine's SinCos
+                    [Some(sin), Some(cos)] if n == sin.min(cos) => {
+                        code.push(Instr { op: Op::SinCos(s(a), s(cos)), dst: s(sin) });
+                        continue;
+                    }
+                    [Some(_), Some(_)] => continue,
                     _ => Op::Call(f, s(a)),
                 },
                 Node::Call(f, a) => Op::Call(f, s(a)),
             };
             code.push(Instr { op, dst: s(n) });
         }
-        // A cosine written by a later sine's SinCos must not be read before it: move each
-        // SinCos to the first of its pair.
-        let mut fixed: Vec<Instr> = Vec::with_capacity(code.len());
-        for ins in code {
-            if let Op::SinCos(arg, cos) = ins.op {
-                let at = fixed.iter().position(|i| reads(i.op, cos)).unwrap_or(fixed.len());
-                fixed.insert(at, Instr { op: Op::SinCos(arg, cos), dst: ins.dst });
-            } else {
-                fixed.push(ins);
+        // Constants read by no instruction (taken as operands above, or outputs) need none.
+        let mut read = vec![false; order.len()];
+        for ins in &code {
+            for k in operands(ins.op).into_iter().flatten() {
+                read[k as usize] = true;
             }
         }
-        // Constants read by no instruction (taken as operands above, or outputs) need none.
-        let read: Vec<bool> =
-            fixed.iter().map(|i| fixed.iter().any(|j| reads(j.op, i.dst))).collect();
-        let fixed: Vec<Instr> = fixed
+        let fixed: Vec<Instr> = code
             .into_iter()
-            .zip(read)
-            .filter(|(i, read)| *read || !matches!(i.op, Op::Const(_)))
-            .map(|(i, _)| i)
+            .filter(|i| read[i.dst as usize] || !matches!(i.op, Op::Const(_)))
             .collect();
         let outputs = outputs
             .iter()
@@ -283,37 +271,83 @@ impl Tape {
 
 /// The instructions reordered, dependencies kept, so that instructions of one kind follow
 /// each other where they can: evaluation dispatches on each instruction's kind, and a
-/// dispatch to the same place as the last one is one the processor predicts.
+/// dispatch to the same place as the last one is one the processor predicts. Among the ready
+/// instructions: the first of the last one's kind, else the first of any kind.
 fn schedule(code: Vec<Instr>) -> Vec<Instr> {
+    use std::collections::BTreeSet;
     let n = code.len();
-    // Instruction i must follow the writers of what it reads.
-    let writer: HashMap<u32, usize> = code
-        .iter()
-        .enumerate()
-        .flat_map(|(i, ins)| {
-            let second = if let Op::SinCos(_, cos) = ins.op { Some((cos, i)) } else { None };
-            std::iter::once((ins.dst, i)).chain(second)
-        })
-        .collect();
-    let deps: Vec<Vec<usize>> = code
-        .iter()
-        .map(|ins| {
-            operands(ins.op).iter().flatten().filter_map(|k| writer.get(k).copied()).collect()
-        })
-        .collect();
-    let mut done = vec![false; n];
-    let mut out: Vec<Instr> = Vec::with_capacity(n);
+    let mut writer: HashMap<u32, usize> = HashMap::with_capacity(n);
+    for (i, ins) in code.iter().enumerate() {
+        writer.insert(ins.dst, i);
+        if let Op::SinCos(_, cos) = ins.op {
+            writer.insert(cos, i);
+        }
+    }
+    let mut waiting = vec![0usize; n];
+    let mut dependents: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (i, ins) in code.iter().enumerate() {
+        let mut deps: Vec<usize> = operands(ins.op)
+            .into_iter()
+            .flatten()
+            .filter_map(|k| writer.get(&k).copied())
+            .collect();
+        deps.dedup();
+        waiting[i] = deps.len();
+        for d in deps {
+            dependents[d].push(i);
+        }
+    }
+    let kind = |i: usize| kind(code[i].op);
+    let mut ready: Vec<BTreeSet<usize>> = vec![BTreeSet::new(); KINDS];
+    for i in (0..n).filter(|&i| waiting[i] == 0) {
+        ready[kind(i)].insert(i);
+    }
+    let mut out = Vec::with_capacity(n);
+    let mut last = None;
     while out.len() < n {
-        let ready = |i: usize| !done[i] && deps[i].iter().all(|&d| done[d]);
-        let last = out.last().map(|ins| std::mem::discriminant(&ins.op));
-        let next = (0..n)
-            .find(|&i| ready(i) && Some(std::mem::discriminant(&code[i].op)) == last)
-            .or_else(|| (0..n).find(|&i| ready(i)))
-            .expect("a straight-line program always has a ready instruction");
-        done[next] = true;
+        let same = last.and_then(|k: usize| ready[k].first().copied());
+        let Some(next) = same.or_else(|| ready.iter().filter_map(|r| r.first().copied()).min())
+        else {
+            break; // unreachable for straight-line code: every instruction's writers precede it
+        };
+        ready[kind(next)].remove(&next);
         out.push(code[next]);
+        last = Some(kind(next));
+        for &d in &dependents[next] {
+            waiting[d] -= 1;
+            if waiting[d] == 0 {
+                ready[kind(d)].insert(d);
+            }
+        }
     }
     out
+}
+
+/// Number of instruction kinds.
+const KINDS: usize = 18;
+
+/// An instruction's kind, `0..KINDS`.
+fn kind(op: Op) -> usize {
+    match op {
+        Op::Const(_) => 0,
+        Op::Var(_) => 1,
+        Op::Add(..) => 2,
+        Op::Sub(..) => 3,
+        Op::Mul(..) => 4,
+        Op::Div(..) => 5,
+        Op::AddK(..) => 6,
+        Op::SubK(..) => 7,
+        Op::KSub(..) => 8,
+        Op::MulK(..) => 9,
+        Op::DivK(..) => 10,
+        Op::KDiv(..) => 11,
+        Op::Neg(_) => 12,
+        Op::Square(_) => 13,
+        Op::PowI(..) => 14,
+        Op::Pow(..) => 15,
+        Op::Call(..) => 16,
+        Op::SinCos(..) => 17,
+    }
 }
 
 /// The slots `op` reads.
@@ -335,9 +369,4 @@ fn operands(op: Op) -> [Option<u32>; 2] {
             [Some(a), Some(b)]
         }
     }
-}
-
-/// Whether `op` reads slot `k`.
-fn reads(op: Op, k: u32) -> bool {
-    operands(op).contains(&Some(k))
 }

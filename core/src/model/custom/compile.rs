@@ -364,14 +364,9 @@ fn through(g: &Graph, e: Id, via: &[Id], seen: &mut HashMap<Id, bool>) -> bool {
     if let Some(&known) = seen.get(&e) {
         return known;
     }
-    let answer = match g.node(e) {
-        Node::Var(0) => false,
-        Node::Const(_) | Node::Var(_) => true,
-        Node::Neg(a) | Node::PowI(a, _) | Node::Call(_, a) => through(g, a, via, seen),
-        Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) | Node::Pow(a, b) => {
-            through(g, a, via, seen) && through(g, b, via, seen)
-        }
-    };
+    let node = g.node(e);
+    let answer = node != Node::Var(0)
+        && node.children().into_iter().flatten().all(|c| through(g, c, via, seen));
     seen.insert(e, answer);
     answer
 }
@@ -386,13 +381,8 @@ fn periodic(g: &Graph, e: Id, seen: &mut HashMap<Id, bool>) -> bool {
     let answer = !g.depends_on(e, 0)
         || match g.node(e) {
             Node::Call(Func::Sin | Func::Cos | Func::Tan, a) => integer_multiple(g, a),
-            Node::Const(_) | Node::Var(_) => false,
-            Node::Neg(a) | Node::PowI(a, _) | Node::Call(_, a) => periodic(g, a, seen),
-            Node::Add(a, b)
-            | Node::Sub(a, b)
-            | Node::Mul(a, b)
-            | Node::Div(a, b)
-            | Node::Pow(a, b) => periodic(g, a, seen) && periodic(g, b, seen),
+            Node::Var(_) => false,
+            node => node.children().into_iter().flatten().all(|c| periodic(g, c, seen)),
         };
     seen.insert(e, answer);
     answer
