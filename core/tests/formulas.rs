@@ -233,3 +233,13 @@ fn the_largest_system_the_limits_allow_compiles() {
     assert!(!c.compiled.quadratic_passenger);
     c.check_start(&[0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.0]).unwrap();
 }
+
+/// A constant power's derivative is `c a^(c−1) a'`, finite where a = 0 (the general rule for
+/// `a^b` would give 0·(…/0) there).
+#[test]
+fn a_constant_powers_derivative_is_finite_at_zero() {
+    let (mut g, e) = compile("(x^2 + y^2)^1.5").unwrap();
+    let d = Derivative::new(0).of(&mut g, e);
+    assert_eq!(g.eval(d, &[0.0, 0.0, 0.0]), 0.0);
+    assert!((g.eval(d, &[1.0, 0.0, 0.0]) - 3.0).abs() < 1e-15);
+}

@@ -67,6 +67,16 @@ impl Derivative {
                 let m = g.mul(kk, k1);
                 g.mul(m, self.d(a))
             }
+            // (a^c)' = c a^(c−1) a' for a constant c: defined at a = 0 too, where the
+            // general rule below would give 0·(…/0).
+            Node::Pow(a, b) if g.constant(b).is_some() => {
+                let c = g.constant(b).unwrap_or(0.0);
+                let c1 = g.num(c - 1.0);
+                let p = g.pow(a, c1);
+                let cc = g.num(c);
+                let m = g.mul(cc, p);
+                g.mul(m, self.d(a))
+            }
             Node::Pow(a, b) => {
                 // (a^b)' = a^b (b' log a + b a'/a)
                 let (da, db) = (self.d(a), self.d(b));

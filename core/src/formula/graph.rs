@@ -217,9 +217,12 @@ impl Graph {
             (Some(-1.0), _) => self.neg(b),
             (_, Some(-1.0)) => self.neg(a),
             _ if a == b => self.intern(Node::PowI(a, 2)),
-            // A constant times a constant times x: one product (within one rounding).
+            // A constant times a constant times x: one product (within one rounding, where
+            // the constants' product is a normal number).
             (Some(x), _) | (_, Some(x))
-                if self.scaled(if self.is(a, x) { b } else { a }).is_some() =>
+                if self
+                    .scaled(if self.is(a, x) { b } else { a })
+                    .is_some_and(|(y, _)| (x * y).is_normal()) =>
             {
                 let other = if self.is(a, x) { b } else { a };
                 let (y, c) = self.scaled(other).unwrap_or((1.0, other));
@@ -258,7 +261,7 @@ impl Graph {
         match (self.constant(a), self.constant(b)) {
             (Some(x), Some(y)) => self.num(x / y),
             // k·x / c: one product.
-            (None, Some(y)) if self.scaled(a).is_some() => {
+            (None, Some(y)) if self.scaled(a).is_some_and(|(k, _)| (k / y).is_normal()) => {
                 let (k, x) = self.scaled(a).unwrap_or((1.0, a));
                 let k = self.num(k / y);
                 self.mul(k, x)

@@ -67,6 +67,8 @@ impl Tape {
 
     /// [`compile`](Self::compile), each node of `inputs` read from its variable rather than
     /// computed (`sin ζ` and `cos ζ` given by the caller, say).
+    /// The tape reads at least as many variables as its nodes and `inputs` name, whatever
+    /// `vars` says, so that evaluation checks its inputs' length against all of them.
     pub fn compile_reading(g: &Graph, outputs: &[Id], vars: usize, inputs: &[(Id, u16)]) -> Self {
         let input = |n: Id| inputs.iter().find(|(i, _)| *i == n).map(|p| p.1);
         // The nodes the outputs need, in the graph's order (children first).
@@ -160,6 +162,11 @@ impl Tape {
                 None => Out::Slot(s(o)),
             })
             .collect();
+        let read = fixed.iter().filter_map(|i| match i.op {
+            Op::Var(v) => Some(v as usize + 1),
+            _ => None,
+        });
+        let vars = read.fold(vars, usize::max);
         Self { code: schedule(fixed), outputs, slots: order.len(), vars }
     }
 

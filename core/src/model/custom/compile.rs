@@ -176,11 +176,25 @@ impl Compiled {
             &passenger_scope,
         )?;
         let mut by_var: Vec<Derivative> = (0..n).map(|i| Derivative::new(i as u16)).collect();
-        let gradient: Vec<Id> = by_var.iter_mut().map(|d| d.of(&mut pg, u)).collect();
+        // Derivatives grow the graph: its size is checked as it grows, not only at the end.
+        let too_large = || InputError::Formula {
+            field: "system".into(),
+            error: crate::formula::FormulaError::TooLarge { limit: lim.max_nodes },
+        };
+        let mut gradient: Vec<Id> = Vec::with_capacity(n);
+        for d in &mut by_var {
+            gradient.push(d.of(&mut pg, u));
+            if pg.len() > lim.max_nodes {
+                return Err(too_large());
+            }
+        }
         let mut hessian = Vec::new();
         for (i, &gi) in gradient.iter().enumerate() {
             for d in &mut by_var[i..] {
                 hessian.push(d.of(&mut pg, gi));
+                if pg.len() > lim.max_nodes {
+                    return Err(too_large());
+                }
             }
         }
         // The driver: V_d, its derivatives, A and dA/dζ, one graph so that they share work.
@@ -208,10 +222,7 @@ impl Compiled {
         let vd2 = d.of(&mut dg, vd1);
         let da: Vec<Id> = a.iter().map(|&e| d.of(&mut dg, e)).collect();
         if pg.len() + dg.len() > lim.max_nodes {
-            return Err(InputError::Formula {
-                field: "system".into(),
-                error: crate::formula::FormulaError::TooLarge { limit: lim.max_nodes },
-            });
+            return Err(too_large());
         }
 
         let quadratic_passenger = hessian.iter().all(|&h| pg.constant(h).is_some());
@@ -244,17 +255,18 @@ impl Compiled {
             && r == 1
             && matches!(&passenger, Passenger::Quadratic { b, h, .. }
                 if b.iter().all(|&x| x == 0.0) && h == &[1.0, 0.0, 0.0, 1.0]);
+        let zeta = dg.var(0);
+        let trig = [(dg.call(Func::Sin, zeta), 1), (dg.call(Func::Cos, zeta), 2)];
+        let on_zeta = dependence(&dg);
         let mut seen = HashMap::new();
-        let periodic =
-            std::iter::once(vd).chain(a.iter().copied()).all(|e| periodic(&dg, e, &mut seen));
+        let periodic = std::iter::once(vd)
+            .chain(a.iter().copied())
+            .all(|e| periodic(&dg, &on_zeta, e, &mut seen));
         let mut outputs = vec![vd, vd1, vd2];
         outputs.extend(&a);
         outputs.extend(&da);
-        let zeta = dg.var(0);
-        let trig = [(dg.call(Func::Sin, zeta), 1), (dg.call(Func::Cos, zeta), 2)];
-        let angle = std::iter::once(vd).chain(a.iter().copied()).all(|e| {
-            !dg.depends_on(e, 0) || through(&dg, e, &[trig[0].0, trig[1].0], &mut HashMap::new())
-        });
+        let via_trig = through(&dg, &[trig[0].0, trig[1].0]);
+        let angle = std::iter::once(vd).chain(a.iter().copied()).all(|e| via_trig[e.0 as usize]);
         let driver = if angle {
             Tape::compile_reading(&dg, &outputs, 3, &trig)
         } else {
@@ -356,51 +368,59 @@ fn check_shape(spec: &FormulaSpec, limits: &CustomLimits) -> Result<(usize, usiz
     Ok((n, r))
 }
 
-/// Whether variable 0 enters `e` only through the nodes `via`.
-fn through(g: &Graph, e: Id, via: &[Id], seen: &mut HashMap<Id, bool>) -> bool {
-    if via.contains(&e) {
-        return true;
+/// Whether variable 0 enters each node of `g` only through the nodes `via`, in one pass
+/// (children come first).
+fn through(g: &Graph, via: &[Id]) -> Vec<bool> {
+    let mut ok = vec![true; g.len()];
+    for i in 0..g.len() {
+        let (id, node) = (Id(i as u32), g.node(Id(i as u32)));
+        ok[i] = via.contains(&id)
+            || (node != Node::Var(0)
+                && node.children().into_iter().flatten().all(|c| ok[c.0 as usize]));
     }
-    if let Some(&known) = seen.get(&e) {
-        return known;
-    }
-    let node = g.node(e);
-    let answer = node != Node::Var(0)
-        && node.children().into_iter().flatten().all(|c| through(g, c, via, seen));
-    seen.insert(e, answer);
-    answer
+    ok
 }
 
 /// Whether `e` is 2π-periodic in variable 0 by its form: the variable appears only inside
 /// `sin`, `cos` or `tan` of an integer multiple of it plus a constant. Each node is looked
 /// at once (`seen`), as nodes are shared.
-fn periodic(g: &Graph, e: Id, seen: &mut HashMap<Id, bool>) -> bool {
+fn periodic(g: &Graph, on_zeta: &[bool], e: Id, seen: &mut HashMap<Id, bool>) -> bool {
     if let Some(&known) = seen.get(&e) {
         return known;
     }
-    let answer = !g.depends_on(e, 0)
+    let answer = !on_zeta[e.0 as usize]
         || match g.node(e) {
-            Node::Call(Func::Sin | Func::Cos | Func::Tan, a) => integer_multiple(g, a),
+            Node::Call(Func::Sin | Func::Cos | Func::Tan, a) => integer_multiple(g, on_zeta, a),
             Node::Var(_) => false,
-            node => node.children().into_iter().flatten().all(|c| periodic(g, c, seen)),
+            node => node.children().into_iter().flatten().all(|c| periodic(g, on_zeta, c, seen)),
         };
     seen.insert(e, answer);
     answer
 }
 
 /// Whether `e` is `kζ + c` with k a nonzero integer and c constant.
-fn integer_multiple(g: &Graph, e: Id) -> bool {
+fn integer_multiple(g: &Graph, on_zeta: &[bool], e: Id) -> bool {
     let integer = |id: Id| g.constant(id).is_some_and(|k| k.fract() == 0.0 && k != 0.0);
+    let free = |id: Id| !on_zeta[id.0 as usize];
+    let multiple = |id: Id| integer_multiple(g, on_zeta, id);
     match g.node(e) {
         Node::Var(0) => true,
-        Node::Neg(a) => integer_multiple(g, a),
-        Node::Mul(a, b) => {
-            (integer(a) && integer_multiple(g, b)) || (integer(b) && integer_multiple(g, a))
-        }
-        Node::Add(a, b) | Node::Sub(a, b) => {
-            (integer_multiple(g, a) && !g.depends_on(b, 0))
-                || (integer_multiple(g, b) && !g.depends_on(a, 0))
-        }
+        Node::Neg(a) => multiple(a),
+        Node::Mul(a, b) => (integer(a) && multiple(b)) || (integer(b) && multiple(a)),
+        // Only the side that depends on ζ is looked into.
+        Node::Add(a, b) | Node::Sub(a, b) if free(b) => multiple(a),
+        Node::Add(a, b) | Node::Sub(a, b) if free(a) => multiple(b),
         _ => false,
     }
+}
+
+/// Whether each node of `g` depends on variable 0, in one pass (children come first).
+fn dependence(g: &Graph) -> Vec<bool> {
+    let mut on = vec![false; g.len()];
+    for i in 0..g.len() {
+        let node = g.node(Id(i as u32));
+        on[i] =
+            node == Node::Var(0) || node.children().into_iter().flatten().any(|c| on[c.0 as usize]);
+    }
+    on
 }
