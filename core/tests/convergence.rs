@@ -2,6 +2,7 @@
 //! log(global error at a fixed time) against log(h) over 5 step sizes (4 halvings), with
 //! errors at the round-off plateau (< 1e-11) dropped.
 
+mod common;
 use nhlab_core::BuiltIn;
 use nhlab_core::systems::{KnifeEdge, RollingDisk};
 use nhlab_core::{Method, MethodSpec, State, System, Vector};
@@ -40,18 +41,6 @@ fn global_error<S: System<N, R>, const N: usize, const R: usize>(
     (st.q - q).amax().max((st.v - v).amax())
 }
 
-fn slope(hs: &[f64], errors: &[f64]) -> f64 {
-    let pts: Vec<(f64, f64)> =
-        hs.iter().zip(errors).filter(|(_, e)| **e > 1e-11).map(|(h, e)| (h.ln(), e.ln())).collect();
-    assert!(pts.len() >= 4, "too few points above round-off: {errors:?}");
-    let n = pts.len() as f64;
-    let (mx, my) =
-        (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    sxy / sxx
-}
-
 fn methods() -> Vec<(Method, f64)> {
     let spec = |id: &str| Method::from_spec(&MethodSpec::new(id)).unwrap();
     let dla = |a: f64| Method::from_spec(&MethodSpec::new("dla").with("alpha", a)).unwrap();
@@ -78,7 +67,7 @@ fn check_orders<S: System<N, R>, const N: usize, const R: usize>(
         let hs: Vec<f64> = steps.iter().map(|&n| t_end / n as f64).collect();
         let errors: Vec<f64> =
             steps.iter().map(|&n| global_error(sys, &method, exact, t_end, n)).collect();
-        let p = slope(&hs, &errors);
+        let p = common::slope(&hs, &errors, 1e-11);
         println!("{name} {}: order {p:.3} errors {errors:?}", method.label());
         assert!((p - order).abs() <= 0.1, "{name} {}: order {p}, expected {order}", method.label());
         assert_eq!(method.order() as f64, order);

@@ -4,6 +4,7 @@
 //! (least-squares slope of log error against log h over 5 step sizes), and DD keeps H at
 //! round-off, as it does on every system of the class.
 
+mod common;
 use nhlab_core::measure::reference::reference_until;
 use nhlab_core::model::custom::Custom;
 use nhlab_core::{
@@ -31,18 +32,6 @@ fn system() -> (Custom<4, 1>, Vector<4>, Vector<4>) {
     let (vy, vw) = (0.4, -0.6);
     let vx = -(z.sin() * vy + z.cos() / 2.0 * vw);
     (sys, Vector::<4>::new(0.5, -0.3, 0.2, z), Vector::<4>::new(vx, vy, vw, 1.2))
-}
-
-fn slope(hs: &[f64], errors: &[f64]) -> f64 {
-    let pts: Vec<(f64, f64)> =
-        hs.iter().zip(errors).filter(|(_, e)| **e > 1e-10).map(|(h, e)| (h.ln(), e.ln())).collect();
-    assert!(pts.len() >= 4, "too few points above the reference's accuracy: {errors:?}");
-    let n = pts.len() as f64;
-    let (mx, my) =
-        (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    sxy / sxx
 }
 
 #[test]
@@ -74,7 +63,7 @@ fn every_method_converges_at_its_order_on_a_system_given_as_formulas() {
             hs.push(h);
             errors.push((st.q - exact.q).amax().max((st.v - exact.v).amax()));
         }
-        let p = slope(&hs, &errors);
+        let p = common::slope(&hs, &errors, 1e-10);
         let shown: Vec<String> = errors.iter().map(|e| format!("{e:.2e}")).collect();
         println!("{}: order {p:.3}, errors {shown:?}", m.label());
         assert!((p - order).abs() <= 0.15, "{}: order {p}, expected {order}", m.label());

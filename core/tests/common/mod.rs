@@ -71,3 +71,17 @@ pub fn preset_start<S: BuiltIn<N, R>, const N: usize, const R: usize>(
     .unwrap();
     (sys, st, p.step)
 }
+
+/// The observed order: the least-squares slope of log(error) against log(h), the errors at
+/// or below `floor` (round-off, or the reference's accuracy) left out; at least 4 points.
+pub fn slope(hs: &[f64], errors: &[f64], floor: f64) -> f64 {
+    let pts: Vec<(f64, f64)> =
+        hs.iter().zip(errors).filter(|(_, e)| **e > floor).map(|(h, e)| (h.ln(), e.ln())).collect();
+    assert!(pts.len() >= 4, "too few points above {floor:e}: {errors:?}");
+    let n = pts.len() as f64;
+    let (mx, my) =
+        (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    sxy / sxx
+}
