@@ -6,7 +6,6 @@
 
 mod common;
 use common::{case, preset_start, step_difference};
-use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01, Leapfrog, Rk4};
 use nhlab_core::model::custom::Custom;
 use nhlab_core::{
     BuiltIn, Collect, CustomLimits, CustomSystem, FormulaSpec, Integral, Method, PAPER_SCENES,
@@ -15,18 +14,6 @@ use nhlab_core::{
 
 const STEPS: usize = 1000;
 const TOL: f64 = 1e-12;
-
-fn methods() -> Vec<Method> {
-    let dla = [0.5, 0.4].map(|alpha| Method::Dla(Dla { alpha, ..Dla::default() }));
-    let others = [
-        Method::Dla01(Dla01::default()),
-        Method::Leapfrog(Leapfrog),
-        Method::Dd(Dd::default()),
-        Method::DdAvf(DdAvf::default()),
-        Method::Rk4(Rk4),
-    ];
-    dla.into_iter().chain(others).collect()
-}
 
 fn same_steps<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
     let info = S::info();
@@ -41,7 +28,7 @@ fn same_steps<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
                 .unwrap_or_else(|e| panic!("{}: {e}", info.id));
             assert_eq!(compiled.compiled.driver.is_native(), native);
             let formulas = Custom::<N, R>::new(compiled.compiled.clone());
-            for m in methods() {
+            for m in Method::all() {
                 let name = case::<S, N, R>(index, &format!("{} (native: {native})", m.label()));
                 let (mut st, mut memory) = (start, m.memory());
                 let mut worst: f64 = 0.0;
@@ -75,7 +62,7 @@ fn built_ins_as_formulas_take_the_built_ins_steps() {
 fn verdicts(req: &SceneRequest) -> Vec<(String, Integral, String)> {
     let scene = Scene::resolve(req).unwrap().prepare(None).unwrap();
     let mut out = Vec::new();
-    for m in methods() {
+    for m in Method::all() {
         let mut c = Collect::default();
         scene.run(&m, &RunConfig::default(), &mut c);
         for (integral, buckets) in &c.series {
