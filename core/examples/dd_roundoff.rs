@@ -19,7 +19,7 @@
 use nhlab_core::BuiltIn;
 use nhlab_core::methods::{Dd, Memory};
 use nhlab_core::systems::KnifeEdge;
-use nhlab_core::{Integrator, Scene, SceneRequest, State, System, Vector};
+use nhlab_core::{Scene, SceneRequest, State, Stepper, System, Vector};
 
 fn run(steps: u64, h: f64, m: &Dd, compensated: bool) -> Vec<(u64, f64)> {
     let req = SceneRequest {
@@ -32,7 +32,7 @@ fn run(steps: u64, h: f64, m: &Dd, compensated: bool) -> Vec<(u64, f64)> {
     let (q, v) =
         (Vector::<3>::from_column_slice(&scene.q), Vector::<3>::from_column_slice(&scene.v));
     let mut st = State::with_continuous_multiplier(&sys, q, v).expect("regular");
-    let mut memory = <Dd as Integrator>::Memory::<3, 1>::empty();
+    let mut memory = <Dd as Stepper>::Memory::<3, 1>::empty();
     let h0 = sys.energy(&st.q, &st.v);
     let mut worst: f64 = 0.0;
     let mut out = Vec::new();

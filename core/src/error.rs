@@ -163,6 +163,14 @@ pub enum InputError {
         /// What is wrong, and where in the formula.
         error: crate::formula::FormulaError,
     },
+    /// A composition that is unknown or asked of a method that is not symmetric.
+    #[error("{message}")]
+    Composition {
+        /// Field path, e.g. `methods[1].composition`.
+        field: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
     /// A system given as formulas is malformed or leaves the class of `docs/model.md` §1
     /// (sizes, names, a constraint matrix without full rank at the start).
     #[error("{message}")]
@@ -186,6 +194,7 @@ impl InputError {
             | Self::TooLarge { field, .. }
             | Self::UnknownMethod { field, .. }
             | Self::Formula { field, .. }
+            | Self::Composition { field, .. }
             | Self::CustomSystem { field, .. } => field.clone(),
             Self::UnknownPreset { .. } => "preset".into(),
             Self::InconsistentVelocity { .. } => "v".into(),
@@ -202,6 +211,7 @@ impl InputError {
             Self::UnknownParam { field, .. }
             | Self::ParamOutOfRange { field, .. }
             | Self::NonFinite { field, .. }
+            | Self::Composition { field, .. }
             | Self::UnknownMethod { field, .. } => *field = format!("{prefix}.{field}"),
             _ => {}
         }

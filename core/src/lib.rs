@@ -37,8 +37,10 @@ pub use measure::classify::{Verdict, VerdictKind, classify};
 pub use measure::integral::Integral;
 pub use measure::properties::Properties;
 pub use measure::simulate::{Collect, Observer, Problem, RunConfig, RunOutcome};
-pub use methods::integrator::{Integrator, MethodInfo};
-pub use methods::{Method, MethodMemory, MethodSpec, method_info, method_infos};
+pub use methods::integrator::{Integrator, MethodInfo, Stepper};
+pub use methods::{
+    BaseMethod, Composed, Composition, Method, MethodMemory, MethodSpec, method_info, method_infos,
+};
 pub use model::custom::{CustomLimits, FormulaSpec};
 pub use model::state::State;
 pub use model::system::{BuiltIn, DriverTerms, ParamSpec, Preset, System, SystemInfo};

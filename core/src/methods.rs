@@ -7,11 +7,13 @@
 //! step to step is its own [`Memory`]. Fast paths sit beside their general path, in the
 //! method's file or folder, and are tested against it (`tests/fast_path.rs`).
 
+pub mod composition;
 pub mod coupled;
 pub mod integrator;
 pub mod memory;
 
-pub use integrator::{Integrator, MethodInfo};
+pub use composition::{Composed, Composition};
+pub use integrator::{Integrator, MethodInfo, Stepper};
 pub use memory::{Memory, Recall};
 
 use crate::catalogue::params::resolve_params;
@@ -19,18 +21,32 @@ use crate::measure::simulate::{self, Observer, Problem, RunConfig, RunOutcome};
 use crate::model::system::System;
 use crate::{InputError, State, StepFailure};
 
+impl From<BaseMethod> for Method {
+    fn from(base: BaseMethod) -> Self {
+        Method { base, composition: None }
+    }
+}
+
 macro_rules! methods {
     ($($module:ident :: $variant:ident),* $(,)?) => {
         $(pub mod $module; pub use self::$module::$variant;)*
 
-        /// A configured method: one of the list, with its parameters.
+        /// A method of the list with its parameters, before any composition.
         #[derive(Debug, Clone, Copy, PartialEq)]
-        pub enum Method {
+        pub enum BaseMethod {
             $(
                 #[doc = concat!("[`", stringify!($variant), "`]")]
                 $variant($variant),
             )*
         }
+
+        $(
+            impl From<$variant> for Method {
+                fn from(m: $variant) -> Self {
+                    Method { base: BaseMethod::$variant(m), composition: None }
+                }
+            }
+        )*
 
         /// The memory of a [`Method`], for code that steps a method chosen at run time
         /// (tests, tools); a run keeps its method's own memory type.
@@ -38,7 +54,7 @@ macro_rules! methods {
         pub enum MethodMemory<const N: usize, const R: usize> {
             $(
                 #[doc = concat!("[`", stringify!($variant), "`]'s")]
-                $variant(<$variant as Integrator>::Memory<N, R>),
+                $variant(<$variant as Stepper>::Memory<N, R>),
             )*
         }
 
@@ -56,50 +72,55 @@ macro_rules! methods {
             vec![$(<$variant as Integrator>::info()),*]
         }
 
-        impl Method {
+        impl BaseMethod {
             fn build(id: &str, params: &[f64]) -> Option<Result<Self, InputError>> {
                 $(
                     if id == <$variant as Integrator>::info().id {
-                        return Some($variant::from_params(params).map(Method::$variant));
+                        return Some($variant::from_params(params).map(BaseMethod::$variant));
                     }
                 )*
                 None
             }
             /// Its description.
             pub fn info(&self) -> &'static MethodInfo {
-                match self { $(Method::$variant(_) => <$variant as Integrator>::info()),* }
+                match self { $(BaseMethod::$variant(_) => <$variant as Integrator>::info()),* }
             }
             /// Short label, e.g. `DLA^0.4`.
             pub fn label(&self) -> String {
-                match self { $(Method::$variant(m) => m.label()),* }
+                match self { $(BaseMethod::$variant(m) => m.label()),* }
             }
             /// Order of convergence.
             pub fn order(&self) -> u32 {
-                match self { $(Method::$variant(m) => m.order()),* }
+                match self { $(BaseMethod::$variant(m) => m.order()),* }
             }
-            /// Parameter values with their names.
-            pub fn params(&self) -> Vec<(&'static str, f64)> {
-                let values = match self { $(Method::$variant(m) => m.params()),* };
-                self.info().params.iter().map(|p| p.name).zip(values).collect()
+            /// Whether its step is symmetric (see [`Integrator::symmetric`]).
+            pub fn symmetric(&self) -> bool {
+                match self { $(BaseMethod::$variant(m) => m.symmetric()),* }
             }
-            /// The same method on its general path, for a method that has faster ones: what
-            /// the fast paths are tested against and benchmarked beside. `None` for the others.
-            pub fn general_path(&self) -> Option<Method> {
-                match self { $(Method::$variant(m) => m.general_path().map(Method::$variant)),* }
+            fn params(&self) -> Vec<f64> {
+                match self { $(BaseMethod::$variant(m) => m.params()),* }
             }
-            /// An empty memory for this method.
-            pub fn memory<const N: usize, const R: usize>(&self) -> MethodMemory<N, R> {
+            fn general_path(&self) -> Option<BaseMethod> {
+                match self { $(BaseMethod::$variant(m) => m.general_path().map(BaseMethod::$variant)),* }
+            }
+            fn memory<const N: usize, const R: usize>(&self) -> MethodMemory<N, R> {
                 match self {
-                    $(Method::$variant(_) => MethodMemory::$variant(Memory::empty())),*
+                    $(BaseMethod::$variant(_) => MethodMemory::$variant(Memory::empty())),*
                 }
             }
+        }
+
+        impl Method {
             /// One step, with `memory` from [`Method::memory`] (a memory of another method
             /// is replaced by an empty one).
             pub fn step<S: System<N, R>, const N: usize, const R: usize>(
                 &self, sys: &S, state: &mut State<N, R>, memory: &mut MethodMemory<N, R>, h: f64,
             ) -> Result<(), StepFailure> {
-                match (self, &mut *memory) {
-                    $((Method::$variant(m), MethodMemory::$variant(mem)) => m.step(sys, state, mem, h),)*
+                match (self.base, &mut *memory) {
+                    $((BaseMethod::$variant(m), MethodMemory::$variant(mem)) => match self.composition {
+                        None => m.step(sys, state, mem, h),
+                        Some(composition) => Composed { base: m, composition }.step(sys, state, mem, h),
+                    },)*
                     #[allow(unreachable_patterns, reason = "reached with two or more methods")]
                     _ => {
                         *memory = self.memory();
@@ -112,10 +133,16 @@ macro_rules! methods {
             pub fn steps<S: System<N, R>, const N: usize, const R: usize>(
                 &self, sys: &S, state: &mut State<N, R>, h: f64, n: u64,
             ) -> Result<(), StepFailure> {
-                match self {
-                    $(Method::$variant(m) => {
-                        let mut memory = Memory::empty();
-                        (0..n).try_for_each(|_| m.step(sys, state, &mut memory, h))
+                fn repeat<M: Stepper, S: System<N, R>, const N: usize, const R: usize>(
+                    m: &M, sys: &S, state: &mut State<N, R>, h: f64, n: u64,
+                ) -> Result<(), StepFailure> {
+                    let mut memory = Memory::empty();
+                    (0..n).try_for_each(|_| m.step(sys, state, &mut memory, h))
+                }
+                match self.base {
+                    $(BaseMethod::$variant(m) => match self.composition {
+                        None => repeat(&m, sys, state, h, n),
+                        Some(composition) => repeat(&Composed { base: m, composition }, sys, state, h, n),
                     }),*
                 }
             }
@@ -123,13 +150,91 @@ macro_rules! methods {
             pub fn run<S: System<N, R>, const N: usize, const R: usize>(
                 &self, problem: &Problem<'_, S, N, R>, cfg: &RunConfig, observer: &mut dyn Observer,
             ) -> RunOutcome {
-                match self { $(Method::$variant(m) => simulate::run(problem, m, cfg, observer)),* }
+                match self.base {
+                    $(BaseMethod::$variant(m) => match self.composition {
+                        None => simulate::run(problem, &m, cfg, observer),
+                        Some(composition) => {
+                            simulate::run(problem, &Composed { base: m, composition }, cfg, observer)
+                        }
+                    }),*
+                }
             }
         }
     };
 }
 
 methods!(dla::Dla, dla01::Dla01, leapfrog::Leapfrog, dd::Dd, dd_avf::DdAvf, rk4::Rk4);
+
+/// A configured method: one of the list with its parameters, taken alone or as a symmetric
+/// composition of its steps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Method {
+    /// The method of the list.
+    pub base: BaseMethod,
+    /// The composition it is taken in, if any (only for a symmetric base).
+    pub composition: Option<Composition>,
+}
+
+impl Method {
+    /// Its base method's description.
+    pub fn info(&self) -> &'static MethodInfo {
+        self.base.info()
+    }
+    /// Short label, e.g. `DLA^0.4` or `LF∘p4s3`.
+    pub fn label(&self) -> String {
+        match self.composition {
+            None => self.base.label(),
+            Some(c) => format!("{}∘{}", self.base.label(), c.id()),
+        }
+    }
+    /// Order of convergence.
+    pub fn order(&self) -> u32 {
+        self.composition.map_or_else(|| self.base.order(), Composition::order)
+    }
+    /// Sub-steps per step: 1, or the composition's stages.
+    pub fn stages(&self) -> usize {
+        self.composition.map_or(1, Composition::stages)
+    }
+    /// Parameter values with their names.
+    pub fn params(&self) -> Vec<(&'static str, f64)> {
+        self.info().params.iter().map(|p| p.name).zip(self.base.params()).collect()
+    }
+    /// The same method on its general path, for a method that has faster ones: what
+    /// the fast paths are tested against and benchmarked beside. `None` for the others.
+    pub fn general_path(&self) -> Option<Method> {
+        self.base.general_path().map(|base| Method { base, ..*self })
+    }
+    /// An empty memory for this method.
+    pub fn memory<const N: usize, const R: usize>(&self) -> MethodMemory<N, R> {
+        self.base.memory()
+    }
+    /// The same method taken as `composition` of its steps; refused unless its step is
+    /// symmetric (field `composition`).
+    pub fn composed(self, composition: Composition) -> Result<Method, InputError> {
+        if !self.base.symmetric() {
+            let why = match self.base {
+                BaseMethod::Dla(_) => "DLA^α is symmetric only for α = 0.5",
+                _ => "its step is not symmetric",
+            };
+            return Err(InputError::Composition {
+                field: "composition".into(),
+                message: format!(
+                    "{} cannot be composed: {why}, and a composition raises the order of a \
+                     symmetric method only; composable are {}",
+                    self.base.label(),
+                    composable().join(", ")
+                ),
+            });
+        }
+        Ok(Method { composition: Some(composition), ..self })
+    }
+}
+
+/// The ids of the methods a composition may take (DLA^α at α = ½ only).
+pub fn composable() -> Vec<&'static str> {
+    // `all()` lists each method once with its defaults and DLA^α again at 0.4.
+    Method::all().into_iter().filter(|m| m.base.symmetric()).map(|m| m.info().id).collect()
+}
 
 /// A method as a user names it: an id and parameter overrides.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -138,12 +243,19 @@ pub struct MethodSpec {
     pub id: String,
     /// Parameters by name.
     pub params: Vec<(String, f64)>,
+    /// Composition id (`p4s3`, …), if any.
+    pub composition: Option<String>,
 }
 
 impl MethodSpec {
     /// A spec with no parameters.
     pub fn new(id: &str) -> Self {
-        Self { id: id.into(), params: Vec::new() }
+        Self { id: id.into(), ..Self::default() }
+    }
+    /// Takes it as a composition.
+    pub fn composed(mut self, composition: &str) -> Self {
+        self.composition = Some(composition.into());
+        self
     }
     /// Adds a parameter.
     pub fn with(mut self, name: &str, value: f64) -> Self {
@@ -169,17 +281,26 @@ impl Method {
         let given = spec.params.iter().map(|(name, value)| (name.as_str(), *value, true));
         let owner = format!("method {}", info.id);
         let values = resolve_params(info.params, given, "", &owner)?;
-        Self::build(info.id, &values).expect("method_info found the id")
+        let method = Method::from(BaseMethod::build(info.id, &values).expect("found the id")?);
+        let Some(id) = &spec.composition else { return Ok(method) };
+        let composition = Composition::from_id(id).ok_or_else(|| InputError::Composition {
+            field: "composition".into(),
+            message: format!(
+                "unknown composition '{id}'; valid compositions: {}",
+                Composition::ALL.map(Composition::id).join(", ")
+            ),
+        })?;
+        method.composed(composition)
     }
 
     /// The paper's five: DLA^0.5, DLA^0.4, DLA^{0,1}, LF, DD.
     pub fn paper_five() -> [Method; 5] {
         [
-            Method::Dla(Dla { alpha: 0.5, ..Dla::default() }),
-            Method::Dla(Dla { alpha: 0.4, ..Dla::default() }),
-            Method::Dla01(Dla01::default()),
-            Method::Leapfrog(Leapfrog),
-            Method::Dd(Dd::default()),
+            Method::from(Dla { alpha: 0.5, ..Dla::default() }),
+            Method::from(Dla { alpha: 0.4, ..Dla::default() }),
+            Method::from(Dla01::default()),
+            Method::from(Leapfrog),
+            Method::from(Dd::default()),
         ]
     }
 

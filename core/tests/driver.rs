@@ -6,8 +6,8 @@ use nhlab_core::measure::simulate::{Problem, run};
 use nhlab_core::methods::{Memory, Recall};
 use nhlab_core::systems::KnifeEdge;
 use nhlab_core::{
-    Bucket, Collect, InputError, Integral, Integrator, MethodInfo, Observer, RunConfig, RunError,
-    State, StepFailure, System, Vector,
+    Bucket, Collect, Integral, Observer, RunConfig, RunError, State, StepFailure, Stepper, System,
+    Vector,
 };
 use std::ops::ControlFlow;
 
@@ -26,30 +26,13 @@ impl<const N: usize, const R: usize> Memory<N, R> for Nothing {
     }
 }
 impl<const N: usize, const R: usize> Recall<N, R> for Nothing {}
-static FAULTY: MethodInfo = MethodInfo {
-    id: "faulty",
-    name: "test method",
-    params: &[],
-    order: 1,
-    reference: "",
-    implicit: false,
-};
 thread_local! {
     // Tests run on separate threads, so each counts its own steps.
     static STEP: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
-impl Integrator for Faulty {
+impl Stepper for Faulty {
     type Memory<const N: usize, const R: usize> = Nothing;
-    fn info() -> &'static MethodInfo {
-        &FAULTY
-    }
-    fn from_params(_: &[f64]) -> Result<Self, InputError> {
-        unreachable!()
-    }
-    fn label(&self) -> String {
-        "faulty".into()
-    }
     fn step<S: System<N, R>, const N: usize, const R: usize>(
         &self,
         sys: &S,
@@ -223,7 +206,7 @@ fn the_final_state_counts_the_turns_taken_off() {
     let dd = Dd::default();
     let mut end = Final::default();
     assert_eq!(run(&problem, &dd, &RunConfig::default(), &mut end).error, None);
-    let (mut by_hand, mut memory) = (start, <Dd as Integrator>::Memory::<3, 1>::empty());
+    let (mut by_hand, mut memory) = (start, <Dd as Stepper>::Memory::<3, 1>::empty());
     for _ in 0..2000 {
         dd.step(&sys, &mut by_hand, &mut memory, 0.1).unwrap();
     }

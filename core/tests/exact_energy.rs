@@ -45,7 +45,7 @@ fn flat<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
     if !(probe.quadratic_passenger() && probe.quadratic_driver()) {
         return;
     }
-    for exact in [Method::Dd(Dd::default()), Method::DdAvf(DdAvf::default())] {
+    for exact in [Method::from(Dd::default()), Method::from(DdAvf::default())] {
         let doubles = exact.general_path().expect("DD and DD-AVF have a general path");
         for preset in 0..S::info().presets.len() {
             let name = case::<S, N, R>(preset, &exact.label());
@@ -70,8 +70,8 @@ fn dd_and_dd_avf_energy_stays_at_round_off_where_v_is_quadratic() {
 #[test]
 fn in_doubles_the_periodic_orbit_drifts() {
     use nhlab_core::systems::KnifeEdge;
-    let exact = energy_error::<KnifeEdge, 3, 1>(0, &Method::Dd(Dd::default()));
+    let exact = energy_error::<KnifeEdge, 3, 1>(0, &Method::from(Dd::default()));
     let doubles =
-        energy_error::<KnifeEdge, 3, 1>(0, &Method::Dd(Dd { fast_path: false, ..Dd::default() }));
+        energy_error::<KnifeEdge, 3, 1>(0, &Method::from(Dd { fast_path: false, ..Dd::default() }));
     assert!(doubles > 2.0 * ULPS && exact <= ULPS, "doubles {doubles:.1}, exact {exact:.1} ulps");
 }

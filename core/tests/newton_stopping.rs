@@ -30,11 +30,11 @@ const DD_FLOOR: f64 = 2e-13;
 
 /// Each implicit method on its Newton solve, with the given settings.
 fn methods(newton: NewtonConfig) -> Vec<Method> {
-    let dla = [0.5, 0.4, 1.0].map(|alpha| Method::Dla(Dla { alpha, newton, fast_path: false }));
+    let dla = [0.5, 0.4, 1.0].map(|alpha| Method::from(Dla { alpha, newton, fast_path: false }));
     let others = [
-        Method::Dla01(Dla01 { newton, fast_path: false }),
-        Method::Dd(Dd { newton, fast_path: false }),
-        Method::DdAvf(DdAvf { newton, fast_path: false }),
+        Method::from(Dla01 { newton, fast_path: false }),
+        Method::from(Dd { newton, fast_path: false }),
+        Method::from(DdAvf { newton, fast_path: false }),
     ];
     dla.into_iter().chain(others).collect()
 }

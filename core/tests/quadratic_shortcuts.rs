@@ -84,7 +84,7 @@ fn worst_difference<S: BuiltIn<N, R>, const N: usize, const R: usize>(
 
 fn same_steps<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
     for preset in 0..S::info().presets.len() {
-        for m in [Method::Dd(Dd::default()), Method::DdAvf(DdAvf::default())] {
+        for m in [Method::from(Dd::default()), Method::from(DdAvf::default())] {
             let worst = worst_difference::<S, N, R>(preset, (m, m));
             let name = case::<S, N, R>(preset, &m.label());
             assert!(worst <= TOL, "{name}: the shortcut and the general path differ by {worst:e}");
@@ -101,7 +101,7 @@ fn quadratic_shortcuts_take_the_general_steps() {
 /// is not quadratic, are told apart on `cvt_pendulum`.
 #[test]
 fn different_discrete_gradients_are_caught() {
-    let pair = (Method::Dd(Dd::default()), Method::DdAvf(DdAvf::default()));
+    let pair = (Method::from(Dd::default()), Method::from(DdAvf::default()));
     let worst = worst_difference::<nhlab_core::systems::CvtPendulum, 3, 1>(0, pair);
     assert!(worst > 1e3 * TOL, "{worst:e}");
 }

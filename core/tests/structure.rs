@@ -5,7 +5,8 @@ mod common;
 use common::preset_start;
 use nhlab_core::BuiltIn;
 use nhlab_core::{
-    Bucket, Integral, Method, MethodMemory, MethodSpec, Observer, Problem, RunConfig, State,
+    BaseMethod, Bucket, Integral, Method, MethodMemory, MethodSpec, Observer, Problem, RunConfig,
+    State,
 };
 
 fn method(id: &str) -> Method {
@@ -30,7 +31,7 @@ fn constraints_every_step<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
         for k in 0..2000 {
             let prev = st;
             m.step(&sys, &mut st, &mut memory, h).unwrap();
-            let residual = if matches!(m, Method::Dd(_) | Method::DdAvf(_)) {
+            let residual = if matches!(m.base, BaseMethod::Dd(_) | BaseMethod::DdAvf(_)) {
                 // DD imposes the constraint at the midpoint: A(q̄)(q̇₀ + q̇₁)/2 = 0.
                 let z_mid = 0.5 * (prev.q[N - 1] + st.q[N - 1]);
                 (sys.constraint(z_mid) * (prev.v + st.v) * 0.5).amax()

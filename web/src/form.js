@@ -61,14 +61,15 @@ export class Form {
     setNumber($('t_end'), state.t_end);
     setNumber($('points'), state.points);
     $('methods').replaceChildren();
-    for (const m of state.methods) this.addMethod(m.id, m.params);
+    for (const m of state.methods) this.addMethod(m.id, m.params, m.composition);
     $('stat').value = state.stat;
     $('smooth').checked = state.smooth;
     setNumber($('window'), state.window);
   }
 
-  /** Adds a method row (checked), with an input per method parameter. */
-  addMethod(id, params = {}) {
+  /** Adds a method row (checked), with an input per method parameter and, for a symmetric
+   *  method, a composition picker. */
+  addMethod(id, params = {}, composition = '') {
     const info = this.catalog.methods.find((m) => m.id === id);
     if (!info) return;
     const row = el('div', 'method-row field');
@@ -95,6 +96,7 @@ export class Form {
       wrap.append(el('span', 'method-param-name', `${GREEK[p.name] ?? p.name} =`), input);
       row.append(wrap);
     }
+    if (info.composable && this.catalog.compositions?.length) row.append(this.#compositionPicker(info, composition));
     const remove = el('button', 'icon', '×');
     remove.type = 'button';
     remove.title = 'Remove this method';
@@ -106,6 +108,22 @@ export class Form {
     row.append(remove);
     $('methods').append(row);
     this.#numberRows();
+  }
+
+  // A composition of a symmetric method's steps raises its order (GET /systems lists them).
+  #compositionPicker(info, chosen) {
+    const wrap = el('label', 'method-param method-composition');
+    const select = el('select');
+    select.dataset.composition = '';
+    select.title = 'Take the method as a symmetric composition of its steps (higher order, same structure)';
+    select.setAttribute('aria-label', `composition of ${info.name}`);
+    select.append(option('', 'order 2'));
+    for (const c of this.catalog.compositions) {
+      select.append(option(c.id, `∘${c.id} (order ${c.order}, ${c.stages} stages)`));
+    }
+    select.value = this.catalog.compositions.some((c) => c.id === chosen) ? chosen : '';
+    wrap.append(select);
+    return wrap;
   }
 
   // A custom system's integrals and the sizes of q and q̇ (its names, the driver last); the
@@ -173,7 +191,8 @@ export class Form {
         const v = number(input, `${row.dataset.path}.${input.dataset.param}`);
         if (v !== null) p[input.dataset.param] = v;
       }
-      methods.push({ id: box.dataset.id, params: p });
+      const composition = row.querySelector('select[data-composition]')?.value;
+      methods.push(composition ? { id: box.dataset.id, params: p, composition } : { id: box.dataset.id, params: p });
     }
     if (methods.length === 0) invalid.push({ path: 'methods', message: 'choose at least one method' });
     const integrals = this.#checkedIntegrals();
@@ -247,6 +266,8 @@ export class Form {
         for (const input of row.querySelectorAll('input[data-param]')) {
           input.closest('.method-param').dataset.path = `methods[${i}].${input.dataset.param}`;
         }
+        const picker = row.querySelector('.method-composition');
+        if (picker) picker.dataset.path = `methods[${i}].composition`;
         i++;
       } else {
         delete row.dataset.path;

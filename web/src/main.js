@@ -94,7 +94,8 @@ function openScene(scene, methods) {
     smooth: true,
     methods: methods.map((m) => ({
       id: m.id,
-      params: Object.fromEntries(Object.entries(m).filter(([k]) => k !== 'id' && k !== 'label')),
+      params: Object.fromEntries(Object.entries(m).filter(([k]) => !['id', 'label', 'composition'].includes(k))),
+      ...(m.composition ? { composition: m.composition } : {}),
     })),
   });
   form.fill(state);

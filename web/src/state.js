@@ -3,8 +3,9 @@
 // (or the page) would choose, which keeps the paper's links short:
 //   ?system=<system id>&preset=<preset id>&smooth=1&run=1
 // Methods are written `id` or `id:p1:p2` (parameters in the order /systems lists them), e.g.
-// `methods=<id>:0.5,<id>:0.4,<id>`. The defaults (methods, window) come from the catalog by
-// the rules of catalog.js. A custom system (custom.js) is written field by field instead of
+// `methods=<id>:0.5,<id>:0.4,<id>`, and a composition after `@`
+// (`<id>@<composition>`). The defaults (methods, window) come from the catalog by the rules of
+// catalog.js. A custom system (custom.js) is written field by field instead of
 // `system` and `preset`; it has no preset, so its initial state and times are written too:
 //   ?custom=<name>&passenger=x1,x2&driver=zeta&param.k=1&U=…&Vd=…&A=…&q=…&v=…&step=…&t_end=…
 // Pure functions over the /systems catalog.
@@ -144,7 +145,7 @@ export function requestBody(state) {
   // Unset fields (empty inputs) are left to the preset.
   for (const key of ['q', 'v']) if (state[key]?.length) body[key] = state[key];
   for (const key of ['step', 't_end']) if (state[key] !== null && state[key] !== undefined) body[key] = state[key];
-  body.methods = state.methods.map((m) => ({ id: m.id, ...m.params }));
+  body.methods = state.methods.map((m) => ({ id: m.id, ...m.params, ...(m.composition ? { composition: m.composition } : {}) }));
   body.integrals = state.integrals;
   body.points = state.points;
   return body;
@@ -161,7 +162,8 @@ function encodeMethods(methods, catalog) {
     .map((m) => {
       const info = catalog.methods.find((x) => x.id === m.id);
       const values = (info?.params ?? []).map((p) => num(m.params[p.name] ?? p.default));
-      return [m.id, ...values].join(':');
+      const item = [m.id, ...values].join(':');
+      return m.composition ? `${item}@${m.composition}` : item;
     })
     .join(',');
 }
@@ -169,7 +171,8 @@ function encodeMethods(methods, catalog) {
 function decodeMethods(text, catalog, warnings) {
   const out = [];
   for (const item of text.split(',').filter(Boolean)) {
-    const [id, ...values] = item.split(':');
+    const [method, composition] = item.split('@');
+    const [id, ...values] = method.split(':');
     const info = catalog.methods.find((x) => x.id === id);
     if (!info) {
       warnings.push(`unknown method "${id}" in the link; left out`);
@@ -179,7 +182,9 @@ function decodeMethods(text, catalog, warnings) {
     info.params.forEach((p, i) => {
       params[p.name] = i < values.length ? Number(values[i]) : p.default;
     });
-    out.push({ id, params });
+    const known = (catalog.compositions ?? []).some((c) => c.id === composition);
+    if (composition && !known) warnings.push(`unknown composition "${composition}" in the link; left out`);
+    out.push(known ? { id, params, composition } : { id, params });
   }
   return out;
 }
@@ -196,7 +201,7 @@ function sameNumber(a, b) {
   return num(a) === num(b);
 }
 
-// Slashes and spaces (as +) are written plainly too, for readable formulas.
+// Slashes and spaces (as +) are written plainly too, for readable formulas; `@` for compositions.
 function esc(s) {
-  return encodeURIComponent(s).replace(/%2C/g, ',').replace(/%3A/g, ':').replace(/%2F/g, '/').replace(/%20/g, '+');
+  return encodeURIComponent(s).replace(/%2C/g, ',').replace(/%3A/g, ':').replace(/%40/g, '@').replace(/%2F/g, '/').replace(/%20/g, '+');
 }

@@ -114,3 +114,21 @@ test('links written by the page before still decode to the same state', () => {
   // An explicit window still wins.
   assert.equal(decodeState('system=knife_edge&preset=paper&smooth=1&window=7', catalog).state.window, 7);
 });
+
+test('a composition travels in the link and the request body', () => {
+  const withCompositions = { ...catalog, compositions: [{ id: 'p4s3', order: 4, stages: 3 }] };
+  const s = defaultState(withCompositions, 'knife_edge', 'paper');
+  s.methods = [{ id: 'leapfrog', params: {}, composition: 'p4s3' }, { id: 'dla', params: { alpha: 0.5 }, composition: 'p4s3' }, { id: 'dd', params: {} }];
+  const query = encodeState(s, withCompositions);
+  assert.match(query, /methods=leapfrog@p4s3,dla:0.5@p4s3,dd/);
+  const back = decodeState(query, withCompositions);
+  assert.deepEqual(back.state.methods, s.methods);
+  assert.deepEqual(requestBody(back.state).methods, [
+    { id: 'leapfrog', composition: 'p4s3' },
+    { id: 'dla', alpha: 0.5, composition: 'p4s3' },
+    { id: 'dd' },
+  ]);
+  const { state, warnings } = decodeState('system=knife_edge&methods=leapfrog@p9s99', withCompositions);
+  assert.deepEqual(state.methods, [{ id: 'leapfrog', params: {} }]);
+  assert.match(warnings.join(' '), /unknown composition "p9s99"/);
+});

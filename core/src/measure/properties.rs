@@ -15,7 +15,8 @@
 //!   3. the method stays on the constraint manifold as a discrete method can: at every one
 //!      of [`MANIFOLD_STEPS`] steps it imposes the constraint either at the step's end,
 //!      `|A(q₁) q̇₁|`, or at its midpoint, `|A(q̄)(q̇₀ + q̇₁)/2|` (the DD family), to `1e-12`
-//!      (this catches RK4, which imposes neither and drifts off).
+//!      (this catches RK4, which imposes neither and drifts off); a composed method at every
+//!      sub-step, as its base method does.
 
 use crate::model::system::System;
 use crate::{Method, MethodMemory, State, StepFailure, Vector};
@@ -143,15 +144,20 @@ pub fn measure<S: System<N, R>, const N: usize, const R: usize>(
         fiber_coupling = fiber_coupling.max(d / scale(&a));
     }
 
-    // 3. A discrete constraint at every step.
+    // 3. A discrete constraint at every step; a composed method imposes its base method's at
+    // every sub-step, so it is checked there.
     let (mut constraint_defect, (mut st, mut memory)): (f64, _) = (0.0, fresh(start));
+    let base = Method { composition: None, ..*m };
+    let fractions = m.composition.map_or(&[1.0][..], |c| c.coefficients());
     for _ in 0..MANIFOLD_STEPS {
-        let prev = st;
-        m.step(sys, &mut st, &mut memory, h)?;
-        let end = sys.constraint_residual(&st.q, &st.v);
-        let mid_zeta = 0.5 * (prev.q[N - 1] + st.q[N - 1]);
-        let mid = (sys.constraint(mid_zeta) * (prev.v + st.v) * 0.5).norm();
-        constraint_defect = constraint_defect.max(end.min(mid) / scale(&st));
+        for &gamma in fractions {
+            let prev = st;
+            base.step(sys, &mut st, &mut memory, gamma * h)?;
+            let end = sys.constraint_residual(&st.q, &st.v);
+            let mid_zeta = 0.5 * (prev.q[N - 1] + st.q[N - 1]);
+            let mid = (sys.constraint(mid_zeta) * (prev.v + st.v) * 0.5).norm();
+            constraint_defect = constraint_defect.max(end.min(mid) / scale(&st));
+        }
     }
 
     Ok(Properties {

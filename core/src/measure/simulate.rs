@@ -10,7 +10,7 @@
 
 use crate::measure::bucket::Lanes;
 use crate::measure::latitude::{LatitudeAxis, LatitudeTracker};
-use crate::methods::integrator::Integrator;
+use crate::methods::integrator::Stepper;
 use crate::methods::memory::{Memory, Recall, driver_potential_and_constraint};
 use crate::model::system::System;
 use crate::{Bucket, Bucketer, Integral, RunError, State, StepFailure};
@@ -125,7 +125,7 @@ fn index_of(integral: Integral) -> usize {
 }
 
 /// Runs `method` on `problem`, streaming to `observer`.
-pub fn run<S: System<N, R>, M: Integrator, const N: usize, const R: usize>(
+pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
     problem: &Problem<'_, S, N, R>,
     method: &M,
     cfg: &RunConfig,

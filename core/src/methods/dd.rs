@@ -25,7 +25,7 @@ pub(crate) mod step;
 use self::gonzalez::discrete_gradient;
 pub use self::memory::DdMemory;
 use self::step::discrete_derivative_step;
-use crate::methods::integrator::{Integrator, MethodInfo};
+use crate::methods::integrator::{Integrator, MethodInfo, Stepper};
 use crate::model::system::{DriverTerms, System};
 use crate::solver::angle_tracker::AngleTracker;
 use crate::solver::newton::NewtonConfig;
@@ -60,7 +60,6 @@ static INFO: MethodInfo = MethodInfo {
 };
 
 impl Integrator for Dd {
-    type Memory<const N: usize, const R: usize> = DdMemory<N, R>;
     fn info() -> &'static MethodInfo {
         &INFO
     }
@@ -73,6 +72,13 @@ impl Integrator for Dd {
     fn general_path(&self) -> Option<Self> {
         Some(Self { fast_path: false, ..*self })
     }
+    fn symmetric(&self) -> bool {
+        true
+    }
+}
+
+impl Stepper for Dd {
+    type Memory<const N: usize, const R: usize> = DdMemory<N, R>;
     #[inline]
     fn step<S: System<N, R>, const N: usize, const R: usize>(
         &self,

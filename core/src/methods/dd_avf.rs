@@ -20,7 +20,7 @@
 use super::dd::step::discrete_derivative_step;
 use super::dd::{DdMemory, closed_form};
 use crate::solver::angle_tracker::AngleTracker;
-use crate::methods::integrator::{Integrator, MethodInfo};
+use crate::methods::integrator::{Integrator, MethodInfo, Stepper};
 use crate::solver::newton::NewtonConfig;
 use crate::model::system::{DriverTerms, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector};
@@ -121,7 +121,6 @@ fn avf_driver_mean<S: System<N, R>, const N: usize, const R: usize>(
 }
 
 impl Integrator for DdAvf {
-    type Memory<const N: usize, const R: usize> = DdMemory<N, R>;
     fn info() -> &'static MethodInfo {
         &INFO
     }
@@ -134,6 +133,13 @@ impl Integrator for DdAvf {
     fn label(&self) -> String {
         "DD-AVF".into()
     }
+    fn symmetric(&self) -> bool {
+        true
+    }
+}
+
+impl Stepper for DdAvf {
+    type Memory<const N: usize, const R: usize> = DdMemory<N, R>;
     #[inline]
     fn step<S: System<N, R>, const N: usize, const R: usize>(
         &self,

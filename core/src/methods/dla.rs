@@ -10,7 +10,7 @@
 //! round-off, without the N×N Newton iterations.
 
 use crate::solver::angle_tracker::AngleTracker;
-use crate::methods::integrator::{Integrator, MethodInfo};
+use crate::methods::integrator::{Integrator, MethodInfo, Stepper};
 use crate::methods::memory::EndOfStep;
 use crate::methods::coupled::coupled_fast_path;
 use crate::solver::newton::{Linearization, NewtonConfig, solve};
@@ -54,7 +54,6 @@ static INFO: MethodInfo = MethodInfo {
 };
 
 impl Integrator for Dla {
-    type Memory<const N: usize, const R: usize> = EndOfStep<N, R>;
     fn info() -> &'static MethodInfo {
         &INFO
     }
@@ -73,6 +72,13 @@ impl Integrator for Dla {
     fn label(&self) -> String {
         format!("DLA^{}", self.alpha)
     }
+    fn symmetric(&self) -> bool {
+        self.alpha == 0.5
+    }
+}
+
+impl Stepper for Dla {
+    type Memory<const N: usize, const R: usize> = EndOfStep<N, R>;
     #[inline]
     fn step<S: System<N, R>, const N: usize, const R: usize>(
         &self,

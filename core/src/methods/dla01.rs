@@ -9,7 +9,7 @@
 //! to round-off.
 
 use crate::solver::angle_tracker::AngleTracker;
-use crate::methods::integrator::{Integrator, MethodInfo};
+use crate::methods::integrator::{Integrator, MethodInfo, Stepper};
 use crate::methods::memory::EndOfStep;
 use crate::methods::coupled::coupled_fast_path;
 use crate::solver::newton::{Linearization, NewtonConfig, solve};
@@ -44,7 +44,6 @@ static INFO: MethodInfo = MethodInfo {
 };
 
 impl Integrator for Dla01 {
-    type Memory<const N: usize, const R: usize> = EndOfStep<N, R>;
     fn info() -> &'static MethodInfo {
         &INFO
     }
@@ -57,6 +56,13 @@ impl Integrator for Dla01 {
     fn label(&self) -> String {
         "DLA^{0,1}".into()
     }
+    fn symmetric(&self) -> bool {
+        true
+    }
+}
+
+impl Stepper for Dla01 {
+    type Memory<const N: usize, const R: usize> = EndOfStep<N, R>;
     // Always inlined: one call site per run loop, where the integrals then share its work.
     #[inline(always)]
     fn step<S: System<N, R>, const N: usize, const R: usize>(

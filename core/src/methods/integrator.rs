@@ -22,12 +22,26 @@ pub struct MethodInfo {
     pub implicit: bool,
 }
 
-/// A one-step nonholonomic integrator. A method is a small config struct; the step is pure
-/// in `self`, so one method value can serve many runs at once. What it carries from step
-/// to step besides the state is its [`Integrator::Memory`], owned by the run.
-pub trait Integrator: Copy + Send + Sync + 'static {
+/// What a run steps: a method of the list ([`Integrator`]) or one composed of its steps
+/// ([`Composed`](super::composition::Composed)). The step is pure in `self`, so one value can
+/// serve many runs at once; what it carries from step to step besides the state is its
+/// [`Stepper::Memory`], owned by the run.
+pub trait Stepper: Copy + Send + Sync + 'static {
     /// What the method remembers from one step to the next (see [`Memory`]).
     type Memory<const N: usize, const R: usize>: Memory<N, R>;
+    /// Advances `state` by one step `h`, reading and updating the method's `memory`.
+    fn step<S: System<N, R>, const N: usize, const R: usize>(
+        &self,
+        sys: &S,
+        state: &mut State<N, R>,
+        memory: &mut Self::Memory<N, R>,
+        h: f64,
+    ) -> Result<(), StepFailure>;
+}
+
+/// A one-step nonholonomic integrator of the list: a small config struct with its
+/// description, on top of its [`Stepper`] step.
+pub trait Integrator: Stepper {
     /// Its description.
     fn info() -> &'static MethodInfo;
     /// Builds it from parameter values in the order of `info().params`, already range-checked.
@@ -47,12 +61,11 @@ pub trait Integrator: Copy + Send + Sync + 'static {
     fn general_path(&self) -> Option<Self> {
         None
     }
-    /// Advances `state` by one step `h`, reading and updating the method's `memory`.
-    fn step<S: System<N, R>, const N: usize, const R: usize>(
-        &self,
-        sys: &S,
-        state: &mut State<N, R>,
-        memory: &mut Self::Memory<N, R>,
-        h: f64,
-    ) -> Result<(), StepFailure>;
+    /// Whether the step is symmetric, `Φ_{−h} ∘ Φ_h = id` (reversible in the sense of
+    /// `docs/model.md` §11): only then does a symmetric [`Composition`] raise its order.
+    ///
+    /// [`Composition`]: super::composition::Composition
+    fn symmetric(&self) -> bool {
+        false
+    }
 }

@@ -4,7 +4,7 @@
 //! previous step (`docs/model.md` §3, corrections 2 and 6).
 
 use crate::solver::linalg;
-use crate::methods::integrator::{Integrator, MethodInfo};
+use crate::methods::integrator::{Integrator, MethodInfo, Stepper};
 use crate::methods::memory::EndOfStep;
 use crate::model::system::{System, constraint_force};
 use crate::{InputError, State, StepFailure, Vector};
@@ -23,7 +23,6 @@ static INFO: MethodInfo = MethodInfo {
 };
 
 impl Integrator for Leapfrog {
-    type Memory<const N: usize, const R: usize> = EndOfStep<N, R>;
     fn info() -> &'static MethodInfo {
         &INFO
     }
@@ -33,6 +32,13 @@ impl Integrator for Leapfrog {
     fn label(&self) -> String {
         "LF".into()
     }
+    fn symmetric(&self) -> bool {
+        true
+    }
+}
+
+impl Stepper for Leapfrog {
+    type Memory<const N: usize, const R: usize> = EndOfStep<N, R>;
     // Always inlined, so that in a run the integrals at q₁ share the step's sin/cos of ζ₁.
     #[inline(always)]
     fn step<S: System<N, R>, const N: usize, const R: usize>(

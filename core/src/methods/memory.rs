@@ -201,7 +201,7 @@ mod tests {
     use super::*;
     use crate::methods::dd::DdMemory;
     use crate::methods::rk4::Rk4Memory;
-    use crate::methods::{Dd, Dla, Dla01, Integrator, Leapfrog, Rk4};
+    use crate::methods::{Dd, Dla, Dla01, Integrator, Leapfrog, Rk4, Stepper};
     use crate::model::system::BuiltIn;
     use crate::model::systems::{Cvt, CvtPendulum, MobileRobot, Particle};
 

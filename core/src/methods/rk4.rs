@@ -4,7 +4,7 @@
 //! Fourth order, explicit, neither reversible nor constraint-preserving: it drifts off the
 //! constraint manifold, which the `constraint` series shows.
 
-use crate::methods::integrator::{Integrator, MethodInfo};
+use crate::methods::integrator::{Integrator, MethodInfo, Stepper};
 use crate::methods::memory::{AccelerationAtEnd, EndOfStep, Memory, Recall};
 use crate::{Matrix, Vector};
 use crate::model::system::{System, constraint_force};
@@ -50,7 +50,6 @@ static INFO: MethodInfo = MethodInfo {
 };
 
 impl Integrator for Rk4 {
-    type Memory<const N: usize, const R: usize> = Rk4Memory<N, R>;
     fn info() -> &'static MethodInfo {
         &INFO
     }
@@ -60,6 +59,10 @@ impl Integrator for Rk4 {
     fn label(&self) -> String {
         "RK4".into()
     }
+}
+
+impl Stepper for Rk4 {
+    type Memory<const N: usize, const R: usize> = Rk4Memory<N, R>;
     #[inline]
     fn step<S: System<N, R>, const N: usize, const R: usize>(
         &self,

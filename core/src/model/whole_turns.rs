@@ -70,7 +70,7 @@ mod tests {
     use super::*;
     use crate::model::system::BuiltIn;
 
-    use crate::methods::integrator::Integrator;
+    use crate::methods::integrator::Stepper;
     use crate::model::systems::CvtPendulum;
 
     #[test]

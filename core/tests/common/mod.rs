@@ -4,6 +4,7 @@
 
 use nhlab_core::BuiltIn;
 use nhlab_core::{State, Vector};
+use std::f64::consts::FRAC_PI_2;
 
 /// `nhlab_core::for_each_system!`, callable unqualified from every test file.
 #[macro_export]
@@ -84,4 +85,20 @@ pub fn slope(hs: &[f64], errors: &[f64], floor: f64) -> f64 {
     let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
     let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
     sxy / sxx
+}
+
+/// Knife edge, ε = 0, from q(0) = (0, 0, π/2), q̇(0) = (0, 0, 1).
+pub fn knife_exact(t: f64) -> (Vector<3>, Vector<3>) {
+    let (s, c) = t.sin_cos();
+    let q =
+        Vector::<3>::new(1.0 - c - s * s / 2.0, t / 2.0 + (2.0 * t).sin() / 4.0 - s, FRAC_PI_2 + t);
+    let v = Vector::<3>::new(s - s * c, 0.5 + (2.0 * t).cos() / 2.0 - c, 1.0);
+    (q, v)
+}
+
+/// Rolling disk from q(0) = 0, q̇(0) = (−1, 0, 1, 1): the heading turns at unit rate and
+/// the contact point runs on the unit circle.
+pub fn disk_exact(t: f64) -> (Vector<4>, Vector<4>) {
+    let (s, c) = t.sin_cos();
+    (Vector::<4>::new(-s, c - 1.0, t, t), Vector::<4>::new(-c, -s, 1.0, 1.0))
 }

@@ -45,8 +45,13 @@ impl Plan {
     ) -> Result<Self, AppError> {
         let axis = |scene: &Scene| caches.latitude(scene);
         let scene = Scene::resolve_within(&req.scene_request(), &config.formulas)?;
-        check_steps(&scene, config, delivery)?;
+        check_steps(&scene, config, delivery, None)?;
         let methods = methods(req.methods.as_deref(), config)?;
+        // A composed method takes its stages' sub-steps per step: what the limit bounds.
+        let composed = methods.iter().filter(|m| m.stages() > 1).max_by_key(|m| m.stages());
+        if composed.is_some() {
+            check_steps(&scene, config, delivery, composed)?;
+        }
         let points = points(req.points, config)?;
         let prepared = match &req.integrals {
             None => scene.prepare_with_latitude(None, axis)?,
@@ -111,8 +116,16 @@ pub fn check_answer_bytes(bytes: u64, config: &Config, what: &str) -> Result<(),
     ))
 }
 
-fn check_steps(scene: &Scene, config: &Config, delivery: Delivery) -> Result<(), AppError> {
-    let steps = scene.steps();
+/// Refuses a run of more than the limit's steps, counting the sub-steps of `composed`, the
+/// composed method with the most stages, if any.
+fn check_steps(
+    scene: &Scene,
+    config: &Config,
+    delivery: Delivery,
+    composed: Option<&Method>,
+) -> Result<(), AppError> {
+    let stages = composed.map_or(1, Method::stages);
+    let steps = scene.steps().saturating_mul(stages as u64);
     let (limit, how) = match delivery {
         Delivery::Json if config.max_steps_stream > config.max_steps_json => (
             config.max_steps_json,
@@ -130,14 +143,19 @@ fn check_steps(scene: &Scene, config: &Config, delivery: Delivery) -> Result<(),
         return Err(AppError::invalid(
             "t_end",
             format!(
-                "t_end / step = {} / {} = {} steps per run exceeds the limit of {limit} \
+                "{}t_end / step = {} / {} = {} steps per run exceeds the limit of {limit} \
                  steps for {how}; shorten t_end or lengthen step",
+                composed.map_or(String::new(), |m| format!(
+                    "{} sub-steps of {} × ",
+                    stages,
+                    m.label()
+                )),
                 Short(scene.t_end),
                 Short(scene.step),
                 if steps < 1_000_000_000_000_000 {
                     steps.to_string()
                 } else {
-                    Short(scene.t_end / scene.step).to_string()
+                    Short(stages as f64 * scene.t_end / scene.step).to_string()
                 },
             ),
         ));
@@ -169,10 +187,18 @@ fn methods(given: Option<&[MethodRequest]>, config: &Config) -> Result<Vec<Metho
         .iter()
         .enumerate()
         .map(|(i, m)| {
-            let spec = MethodSpec { id: m.id.clone(), params: m.params.clone() };
+            let spec = MethodSpec {
+                id: m.id.clone(),
+                params: m.params.clone(),
+                composition: m.composition.clone(),
+            };
             Method::from_spec(&spec).map_err(|e| {
                 // A parameter's error points into `params` where it was given there.
-                let in_params = m.nested && !matches!(e, InputError::UnknownMethod { .. });
+                let in_params = m.nested
+                    && !matches!(
+                        e,
+                        InputError::UnknownMethod { .. } | InputError::Composition { .. }
+                    );
                 let e = if in_params { e.within("params") } else { e };
                 AppError::from(e.within(&format!("methods[{i}]")))
             })

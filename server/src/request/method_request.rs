@@ -10,7 +10,8 @@ use std::fmt;
 /// One method of a request: its id and parameter overrides, beside the id (`{"id": "dla",
 /// "alpha": 0.4}`, as responses echo it) or in a `params` object (`{"id": "dla", "params":
 /// {"alpha": 0.4}}`, as a scene's parameters and `GET /systems` put them); a bare string is
-/// the method with its defaults.
+/// the method with its defaults. `"composition": "p4s3"` beside the id takes a symmetric
+/// method as that composition of its steps.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct MethodRequest {
     /// Method id.
@@ -19,12 +20,14 @@ pub struct MethodRequest {
     pub params: Vec<(String, f64)>,
     /// Whether they were given in a `params` object (their errors' paths then go through it).
     pub nested: bool,
+    /// The composition it is taken in (`"p4s3"`, …), if any.
+    pub composition: Option<String>,
 }
 
 impl MethodRequest {
     /// The method `id` with these parameters, given beside the id.
     pub fn new(id: &str, params: Vec<(String, f64)>) -> Self {
-        Self { id: id.to_owned(), params, nested: false }
+        Self { id: id.to_owned(), params, ..Self::default() }
     }
 }
 
@@ -42,7 +45,8 @@ impl<'de> Visitor<'de> for MethodVisitor {
     fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
         f.write_str(
             "a method: an id string, or an object {\"id\": \"dla\", \"alpha\": 0.4} or \
-             {\"id\": \"dla\", \"params\": {\"alpha\": 0.4}}",
+             {\"id\": \"dla\", \"params\": {\"alpha\": 0.4}}, optionally with \
+             \"composition\": \"p4s3\"",
         )
     }
 
@@ -51,7 +55,7 @@ impl<'de> Visitor<'de> for MethodVisitor {
     }
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<MethodRequest, A::Error> {
-        let (mut id, mut flat, mut nested) = (None, Vec::new(), None);
+        let (mut id, mut flat, mut nested, mut composition) = (None, Vec::new(), None, None);
         let mut seen = HashSet::new();
         while let Some(key) = map.next_key::<String>()? {
             match key.as_str() {
@@ -59,6 +63,10 @@ impl<'de> Visitor<'de> for MethodVisitor {
                 "id" => id = Some(map.next_value::<String>()?),
                 "params" if nested.is_some() => return Err(de::Error::duplicate_field("params")),
                 "params" => nested = Some(map.next_value::<Params>()?.0),
+                "composition" if composition.is_some() => {
+                    return Err(de::Error::duplicate_field("composition"));
+                }
+                "composition" => composition = Some(map.next_value::<String>()?),
                 _ => {
                     let value = map.next_value::<f64>()?;
                     push_param(&mut flat, &mut seen, key, value)?;
@@ -67,8 +75,10 @@ impl<'de> Visitor<'de> for MethodVisitor {
         }
         let id = id.ok_or_else(|| de::Error::missing_field("id"))?;
         match nested {
-            None => Ok(MethodRequest::new(&id, flat)),
-            Some(params) if flat.is_empty() => Ok(MethodRequest { id, params, nested: true }),
+            None => Ok(MethodRequest { composition, ..MethodRequest::new(&id, flat) }),
+            Some(params) if flat.is_empty() => {
+                Ok(MethodRequest { id, params, nested: true, composition })
+            }
             Some(_) => Err(de::Error::custom(format!(
                 "give the parameters of method {id} either beside its id or in `params`, not both"
             ))),

@@ -4,7 +4,7 @@
 //! bodies.
 
 use crate::config::Config;
-use nhlab_core::{Integral, ParamSpec, SYSTEMS, method_infos};
+use nhlab_core::{Composition, Integral, ParamSpec, SYSTEMS, method_infos};
 use utoipa::openapi::RefOr;
 use utoipa::openapi::schema::{
     AdditionalProperties, ArrayBuilder, ObjectBuilder, OneOfBuilder, Schema, Type,
@@ -75,7 +75,7 @@ pub(crate) fn integrals() -> ArrayBuilder {
 }
 
 /// `methods`: a non-empty list of method ids, `{"id": …, param: value}` objects or
-/// `{"id": …, "params": {param: value}}` objects.
+/// `{"id": …, "params": {param: value}}` objects, with a `composition` for the symmetric ones.
 pub(crate) fn methods() -> ArrayBuilder {
     let infos = method_infos();
     let mut one_of = OneOfBuilder::new().item(strings(infos.iter().map(|m| m.id).collect()));
@@ -84,14 +84,21 @@ pub(crate) fn methods() -> ArrayBuilder {
             .schema_type(Type::Object)
             .additional_properties(Some(AdditionalProperties::FreeForm(false)))
     };
+    let composable = nhlab_core::methods::composable();
+    let compositions = || strings(Composition::ALL.map(Composition::id).to_vec());
     for m in &infos {
         let (mut flat, mut params) =
             (closed().property("id", strings(vec![m.id])).required("id"), closed());
+        let mut nested = closed();
+        if composable.contains(&m.id) {
+            flat = flat.property("composition", compositions());
+            nested = nested.property("composition", compositions());
+        }
         for p in m.params {
             flat = flat.property(p.name, bounded(p));
             params = params.property(p.name, bounded(p));
         }
-        let nested = closed()
+        let nested = nested
             .property("id", strings(vec![m.id]))
             .property("params", params)
             .required("id")

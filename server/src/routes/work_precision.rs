@@ -123,17 +123,23 @@ impl Job {
             ));
         }
         // Every run of every row, as `measure` rounds them; in f64 so that no input overflows.
+        // A composed method's step counts its stages' sub-steps.
         let per_method: f64 = steps.iter().map(|&s| (t_end / s).round().max(1.0)).sum();
-        let total = per_method * plan.methods.len() as f64 * repeats as f64;
+        let stages: usize = plan.methods.iter().map(|m| m.stages()).sum();
+        let total = per_method * stages as f64 * repeats as f64;
         let limit = state.config.max_steps_json;
         if total > limit as f64 {
+            let methods = if stages == plan.methods.len() {
+                format!("{} methods", plan.methods.len())
+            } else {
+                format!("{} methods, {stages} sub-steps per step in all", plan.methods.len())
+            };
             return Err(AppError::invalid(
                 field,
                 format!(
-                    "{total:.3e} steps in all ({} methods × {repeats} repeats × {per_method:.3e} \
+                    "{total:.3e} steps in all ({methods} × {repeats} repeats × {per_method:.3e} \
                      steps per method) exceed the limit of {limit} steps per request; use fewer \
-                     or larger steps, fewer repeats or methods, or a shorter t_end",
-                    plan.methods.len()
+                     or larger steps, fewer repeats or methods, or a shorter t_end"
                 ),
             ));
         }

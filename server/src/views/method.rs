@@ -1,5 +1,5 @@
 //! [`MethodView`]: a configured method as every answer reports it: its id, its parameters
-//! inline and its label.
+//! inline, its composition if any, and its label.
 
 use nhlab_core::Method;
 use serde::Serialize;
@@ -14,7 +14,10 @@ pub struct MethodView {
     /// Parameter values by name, inline (e.g. `"alpha": 0.4`).
     #[serde(flatten)]
     pub params: BTreeMap<String, f64>,
-    /// Short label, e.g. `DLA^0.4`.
+    /// The composition it is taken in (`p4s3`, …), if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub composition: Option<String>,
+    /// Short label, e.g. `DLA^0.4` or `LF∘p4s3`.
     pub label: String,
 }
 
@@ -24,6 +27,7 @@ impl MethodView {
         Self {
             id: method.info().id.to_owned(),
             params: method.params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect(),
+            composition: method.composition.map(|c| c.id().to_owned()),
             label: method.label(),
         }
     }

@@ -7,7 +7,8 @@ use crate::config::Config;
 use crate::request::FormulaSystem;
 use crate::views::MethodView;
 use nhlab_core::{
-    FormulaSpec, Method, PAPER_SCENES, ParamSpec, Preset, SYSTEMS, SystemEntry, method_infos,
+    Composition, FormulaSpec, Method, PAPER_SCENES, ParamSpec, Preset, SYSTEMS, SystemEntry,
+    method_infos,
 };
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -22,10 +23,30 @@ pub struct SystemsResponse {
     pub methods: Vec<MethodInfoView>,
     /// The methods run when a request names none (the paper's five).
     pub default_methods: Vec<MethodView>,
+    /// The symmetric compositions a symmetric method may be taken in (a method's
+    /// `composition`).
+    pub compositions: Vec<CompositionView>,
     /// The paper's six experiments (the scorecard's default scenes), in the paper's order.
     pub paper_scenes: Vec<PaperScene>,
     /// The server's limits.
     pub limits: LimitsView,
+}
+
+/// A symmetric composition `Φ_{γ_s h} ∘ … ∘ Φ_{γ_1 h}` of a symmetric method of order 2.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct CompositionView {
+    /// Id, as a method's `composition` (`p4s3`: order 4, 3 stages).
+    pub id: String,
+    /// Human name.
+    pub name: String,
+    /// Order of the composed method.
+    pub order: u32,
+    /// Sub-steps per step.
+    pub stages: usize,
+    /// The sub-steps' fractions γ of the step, in the order they are taken.
+    pub coefficients: Vec<f64>,
+    /// Where the coefficients come from.
+    pub reference: String,
 }
 
 /// One of the paper's experiments: a system and one of its presets.
@@ -115,6 +136,8 @@ pub struct MethodInfoView {
     pub reference: String,
     /// Whether a step solves a nonlinear system.
     pub implicit: bool,
+    /// Whether it may take a `composition`: its step is symmetric (DLA^α at α = 0.5 only).
+    pub composable: bool,
 }
 
 /// The limits a request must respect.
@@ -192,6 +215,7 @@ impl SystemView {
 impl SystemsResponse {
     /// The listing, with the limits of `config`.
     pub fn new(config: &Config) -> Self {
+        let composable = nhlab_core::methods::composable();
         Self {
             systems: SYSTEMS.iter().map(SystemView::of).collect(),
             methods: method_infos()
@@ -203,9 +227,21 @@ impl SystemsResponse {
                     order: m.order,
                     reference: m.reference.into(),
                     implicit: m.implicit,
+                    composable: composable.contains(&m.id),
                 })
                 .collect(),
             default_methods: Method::paper_five().iter().map(MethodView::of).collect(),
+            compositions: Composition::ALL
+                .iter()
+                .map(|c| CompositionView {
+                    id: c.id().into(),
+                    name: c.name().into(),
+                    order: c.order(),
+                    stages: c.stages(),
+                    coefficients: c.coefficients().to_vec(),
+                    reference: c.reference().into(),
+                })
+                .collect(),
             paper_scenes: PAPER_SCENES
                 .iter()
                 .map(|(system, preset)| PaperScene {

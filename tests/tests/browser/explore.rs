@@ -245,3 +245,43 @@ pub(crate) async fn bad_parameter_link(client: &Client, base: &str) -> Result<()
     screenshot(client, "bad-parameter.png").await;
     Ok(())
 }
+
+/// A composition picked beside a method: it travels in the URL, runs, and labels its curve.
+pub(crate) async fn composition(
+    client: &Client,
+    driver: &Driver,
+    base: &str,
+) -> Result<(), String> {
+    let link = format!(
+        "{base}?system=knife_edge&preset=paper&methods=leapfrog,leapfrog@p4s3,rk4&integrals=energy"
+    );
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    let pickers = "#methods .method-row select[data-composition]";
+    client
+        .wait()
+        .at_most(Duration::from_secs(20))
+        .for_element(Locator::Css(pickers))
+        .await
+        .map_err(|e| format!("no composition picker beside a method ({pickers}): {e}"))?;
+    // The scenario before ended on a 422, which the console logged: read it away.
+    driver.browser_log(client).await?;
+    let chosen = js(
+        client,
+        "return [...document.querySelectorAll('#methods .method-row')].map((r) => \
+         r.querySelector('select[data-composition]')?.value ?? null);",
+    )
+    .await?;
+    assert_eq!(chosen, json!(["", "p4s3", null]), "the link's compositions, none for RK4");
+    let first = client.find(Locator::Css(pickers)).await.map_err(|e| e.to_string())?;
+    first.select_by_value("p6s9").await.map_err(|e| format!("cannot pick p6s9: {e}"))?;
+    let url = js(client, "return location.search;").await?;
+    let url = url.as_str().unwrap_or_default();
+    assert!(url.contains("methods=leapfrog@p6s9,leapfrog@p4s3,rk4"), "the URL follows: {url}");
+    let run = client.find(Locator::Id("run")).await.map_err(|e| e.to_string())?;
+    run.click().await.map_err(|e| format!("cannot click Run: {e}"))?;
+    let (state, text) = wait_for_status(client).await?;
+    assert_eq!(state, "done", "the composed runs end; the page said {text:?}");
+    let plot = js(client, PLOT_REPORT).await?;
+    assert_eq!(plot["legend"], json!(["LF∘p6s9", "LF∘p4s3", "RK4"]), "{plot}");
+    console_clean(driver, client, "composition").await
+}

@@ -38,7 +38,7 @@ mod views;
 
 use custom::custom_system;
 use driver::{Driver, required};
-use explore::{bad_parameter_link, cancel, failed_runs, form_in_the_url, knife_edge};
+use explore::{bad_parameter_link, cancel, composition, failed_runs, form_in_the_url, knife_edge};
 use fantoccini::Client;
 use nhlab_tests::TestServer;
 use std::time::Duration;
@@ -70,6 +70,7 @@ async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), S
     cancel(client, driver, base).await?;
     form_in_the_url(client, driver, base).await?;
     bad_parameter_link(client, base).await?;
+    composition(client, driver, base).await?;
     custom_system(client, driver, base).await?;
     paper_view(client, driver, base).await?;
     scorecard_view(client, driver, base).await?;

@@ -232,7 +232,7 @@ fn finish_with<S: System<N, R>, const N: usize, const R: usize, P: Products>(
 mod tests {
     use super::*;
     use crate::model::system::BuiltIn;
-    use crate::methods::integrator::Integrator;
+    use crate::methods::integrator::Stepper;
     use crate::methods::{Dd, Memory};
     use crate::model::systems::{Cvt, KnifeEdge, RollingDisk};
 

@@ -88,7 +88,7 @@ impl<const N: usize> DriverHistory<N> {
 mod tests {
     use super::*;
     use crate::model::system::BuiltIn;
-    use crate::methods::integrator::Integrator;
+    use crate::methods::integrator::Stepper;
     use crate::methods::dd::DdMemory;
     use crate::methods::{Dd, DdAvf, Memory};
     use crate::model::systems::{CvtPendulum, MobileRobot, Particle};
@@ -119,7 +119,7 @@ mod tests {
     fn falls_back_to_euler<S, M, const N: usize, const R: usize>(sys: &S, preset: usize, m: &M)
     where
         S: BuiltIn<N, R>,
-        M: Integrator<Memory<N, R> = DdMemory<N, R>>,
+        M: Stepper<Memory<N, R> = DdMemory<N, R>>,
     {
         let p = &S::info().presets[preset];
         let (q, v) = (Vector::from_column_slice(p.q), Vector::from_column_slice(p.v));
@@ -159,7 +159,7 @@ mod tests {
     ) -> (f64, usize)
     where
         S: BuiltIn<N, R>,
-        M: Integrator<Memory<N, R> = DdMemory<N, R>>,
+        M: Stepper<Memory<N, R> = DdMemory<N, R>>,
     {
         let p = &S::info().presets[0];
         let (q, v) = (Vector::from_column_slice(p.q), Vector::from_column_slice(p.v));

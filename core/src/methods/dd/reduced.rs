@@ -183,7 +183,7 @@ pub(crate) fn step<S: System<N, R>, const N: usize, const R: usize>(
 mod tests {
     use super::step;
     use crate::methods::dd::DdMemory;
-    use crate::methods::integrator::Integrator;
+    use crate::methods::integrator::Stepper;
     use crate::methods::{Dd, Memory};
     use crate::model::systems::MobileRobot;
     use crate::{NewtonConfig, State, Vector};
