@@ -148,7 +148,7 @@ fn cost_on<S: BuiltIn<N, R>, const N: usize, const R: usize>(preset: &str) {
     let sys = S::new(&info.preset_params(p));
     let (q, v) = (Vector::<N>::from_column_slice(p.q), Vector::<N>::from_column_slice(p.v));
     let start = State::with_continuous_multiplier(&sys, q, v).expect("a preset is regular");
-    const SUB_STEPS: u64 = 30_000;
+    const SUB_STEPS: u64 = 150_000;
     for base in Method::all().into_iter().filter(|m| m.base.symmetric()) {
         for c in Composition::ALL {
             let m = base.composed(c).expect("symmetric");

@@ -157,3 +157,21 @@ async fn the_scorecard_measures_composed_methods() {
         "{dd}"
     );
 }
+
+#[tokio::test]
+async fn the_step_limits_count_sub_steps() {
+    let s = TestServer::start().await;
+    // 2·10⁶ steps are within the JSON limit of 2·10⁷ alone, not as 15 sub-steps each.
+    let body = json!({"system": "knife_edge", "step": 0.001, "t_end": 2000,
+                      "methods": ["leapfrog", lf("p8s15")]});
+    let (status, error) = s.post_json("/simulate", &body).await;
+    assert_eq!(status, 422, "{error}");
+    assert_eq!(error["path"], "t_end", "{error}");
+    let message = error["error"].as_str().unwrap();
+    assert!(message.contains("15 sub-steps of LF∘p8s15 × t_end / step"), "{message}");
+    let body = json!({"system": "knife_edge", "t_end": 1000, "methods": [lf("p8s15"), lf("p8s15")],
+                      "steps": [0.001, 0.0005], "repeats": 1});
+    let (status, error) = s.post_json("/work-precision", &body).await;
+    assert_eq!(status, 422, "{error}");
+    assert!(error["error"].as_str().unwrap().contains("30 sub-steps per step in all"), "{error}");
+}

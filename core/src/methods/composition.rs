@@ -167,7 +167,27 @@ impl<M: Integrator> Stepper for Composed<M> {
         memory: &mut Self::Memory<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
-        for &gamma in self.composition.coefficients() {
+        // One loop per scheme over a fixed-size array: unrolled, the sub-steps' γ constants.
+        match self.composition {
+            Composition::P4s3 => self.sub_steps(&P4S3, sys, state, memory, h),
+            Composition::P4s5 => self.sub_steps(&P4S5, sys, state, memory, h),
+            Composition::P6s9 => self.sub_steps(&P6S9, sys, state, memory, h),
+            Composition::P8s15 => self.sub_steps(&P8S15, sys, state, memory, h),
+        }
+    }
+}
+
+impl<M: Integrator> Composed<M> {
+    #[inline(always)]
+    fn sub_steps<S: System<N, R>, const N: usize, const R: usize, const K: usize>(
+        &self,
+        gammas: &[f64; K],
+        sys: &S,
+        state: &mut State<N, R>,
+        memory: &mut M::Memory<N, R>,
+        h: f64,
+    ) -> Result<(), StepFailure> {
+        for &gamma in gammas {
             self.base.step(sys, state, memory, gamma * h)?;
         }
         Ok(())
