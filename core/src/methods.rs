@@ -187,9 +187,11 @@ impl Method {
             Some(c) => format!("{}∘{}", self.base.label(), c.id()),
         }
     }
-    /// Order of convergence.
+    /// Order of convergence: a composition's, where its base method reaches it (see
+    /// [`MethodInfo::composed_order_limit`]).
     pub fn order(&self) -> u32 {
-        self.composition.map_or_else(|| self.base.order(), Composition::order)
+        let limit = self.info().composed_order_limit.unwrap_or(u32::MAX);
+        self.composition.map_or_else(|| self.base.order(), |c| c.order().min(limit))
     }
     /// Sub-steps per step: 1, or the composition's stages.
     pub fn stages(&self) -> usize {

@@ -6,11 +6,12 @@
 
 mod common;
 use common::{disk_exact, knife_exact};
+use nhlab_core::measure::properties;
 use nhlab_core::measure::reference::reference;
 use nhlab_core::systems::{Cvt, KnifeEdge, RollingDisk};
 use nhlab_core::{
     BuiltIn, Collect, Composition, InputError, Integral, Method, MethodSpec, PAPER_SCENES,
-    RunConfig, Scene, SceneRequest, State, System, Vector,
+    Properties, RunConfig, Scene, SceneRequest, State, System, Vector,
 };
 
 /// Where the errors are measured: long enough that p8s15 meets 1e-4 with tens of steps, not
@@ -117,11 +118,13 @@ fn tolerance(order: u32) -> f64 {
 ///   O(h²) component off the manifold stays, so the error in q̇ is of order 2.
 fn measured(m: &Method) -> (u32, On) {
     let c = m.composition.expect("composed");
-    match m.info().id {
+    let measured = match m.info().id {
         "leapfrog" => (4, On::State),
         "dd" | "dd_avf" => (4, On::Projected),
         _ => (c.order(), On::State),
-    }
+    };
+    assert_eq!(m.order(), measured.0, "{}: the order it declares", m.label());
+    measured
 }
 
 fn check<S: System<N, R>, const N: usize, const R: usize>(
@@ -205,9 +208,12 @@ fn composed_methods_are_as_reversible_and_fibration_preserving_as_their_base() {
                 let m = base.composed(c).unwrap();
                 let p = scene.properties(&m).unwrap();
                 println!("{system}/{preset} {}: {p:?}", m.label());
+                // The discrete constraint (check 3 of `properties`) on its own too: DD's
+                // `preserves_fibration` is false for its driver coupling whatever check 3 says.
+                let on_manifold = |p: &Properties| p.constraint_defect <= properties::COUPLING_TOL;
                 assert_eq!(
-                    (p.reversible, p.preserves_fibration),
-                    (b.reversible, b.preserves_fibration),
+                    (p.reversible, p.preserves_fibration, on_manifold(&p)),
+                    (b.reversible, b.preserves_fibration, on_manifold(&b)),
                     "{system}/{preset} {}: {p:?}, base {b:?}",
                     m.label()
                 );

@@ -40,6 +40,14 @@ async fn systems_lists_the_compositions_and_who_may_take_them() {
         .map(|m| m["id"].as_str().unwrap())
         .collect();
     assert_eq!(composable, ["dla", "dla01", "leapfrog", "dd", "dd_avf"]);
+    // Where compositions stop below the scheme's order (measured, docs/compositions.md).
+    let limits: Vec<(&str, u64)> = systems["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|m| Some((m["id"].as_str()?, m["composed_order_limit"].as_u64()?)))
+        .collect();
+    assert_eq!(limits, [("leapfrog", 4), ("dd", 4), ("dd_avf", 4)]);
 }
 
 #[tokio::test]

@@ -118,8 +118,10 @@ export class Form {
     select.title = 'Take the method as a symmetric composition of its steps (higher order, same structure)';
     select.setAttribute('aria-label', `composition of ${info.name}`);
     select.append(option('', 'order 2'));
+    // Some methods' compositions stop below the scheme's order (measured; GET /systems says so).
+    const limit = info.composed_order_limit ?? Infinity;
     for (const c of this.catalog.compositions) {
-      select.append(option(c.id, `∘${c.id} (order ${c.order}, ${c.stages} stages)`));
+      select.append(option(c.id, `∘${c.id} (order ${Math.min(c.order, limit)}, ${c.stages} stages)`));
     }
     select.value = this.catalog.compositions.some((c) => c.id === chosen) ? chosen : '';
     wrap.append(select);

@@ -184,7 +184,8 @@ function decodeMethods(text, catalog, warnings) {
     });
     const known = (catalog.compositions ?? []).some((c) => c.id === composition);
     if (composition && !known) warnings.push(`unknown composition "${composition}" in the link; left out`);
-    out.push(known ? { id, params, composition } : { id, params });
+    if (known && !info.composable) warnings.push(`${id} takes no composition; "${composition}" left out`);
+    out.push(known && info.composable ? { id, params, composition } : { id, params });
   }
   return out;
 }

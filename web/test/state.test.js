@@ -116,7 +116,8 @@ test('links written by the page before still decode to the same state', () => {
 });
 
 test('a composition travels in the link and the request body', () => {
-  const withCompositions = { ...catalog, compositions: [{ id: 'p4s3', order: 4, stages: 3 }] };
+  const composable = catalog.methods.map((m) => ({ ...m, composable: true }));
+  const withCompositions = { ...catalog, methods: composable, compositions: [{ id: 'p4s3', order: 4, stages: 3 }] };
   const s = defaultState(withCompositions, 'knife_edge', 'paper');
   s.methods = [{ id: 'leapfrog', params: {}, composition: 'p4s3' }, { id: 'dla', params: { alpha: 0.5 }, composition: 'p4s3' }, { id: 'dd', params: {} }];
   const query = encodeState(s, withCompositions);
@@ -131,4 +132,9 @@ test('a composition travels in the link and the request body', () => {
   const { state, warnings } = decodeState('system=knife_edge&methods=leapfrog@p9s99', withCompositions);
   assert.deepEqual(state.methods, [{ id: 'leapfrog', params: {} }]);
   assert.match(warnings.join(' '), /unknown composition "p9s99"/);
+  // A method that is not symmetric takes none (RK4 in the real catalog).
+  const notComposable = { ...withCompositions, methods: [...composable, { id: 'rk4', params: [] }] };
+  const other = decodeState('system=knife_edge&methods=rk4@p4s3', notComposable);
+  assert.deepEqual(other.state.methods, [{ id: 'rk4', params: {} }]);
+  assert.match(other.warnings.join(' '), /rk4 takes no composition/);
 });

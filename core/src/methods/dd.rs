@@ -57,6 +57,7 @@ static INFO: MethodInfo = MethodInfo {
     order: 2,
     reference: "Gonzalez, J. Nonlinear Sci. 6 (1996); Betsch, CMAME 195 (2006); Modin & Verdier §2",
     implicit: true,
+    composed_order_limit: Some(4),
 };
 
 impl Integrator for Dd {

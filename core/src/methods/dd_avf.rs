@@ -49,6 +49,7 @@ static INFO: MethodInfo = MethodInfo {
     order: 2,
     reference: "Quispel & McLaren, J. Phys. A 41 (2008); Modin & Verdier, open problem 3",
     implicit: true,
+    composed_order_limit: Some(4),
 };
 
 /// Gauss–Legendre nodes and weights on [0, 1].

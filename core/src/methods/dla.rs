@@ -51,6 +51,7 @@ static INFO: MethodInfo = MethodInfo {
     order: 2,
     reference: "Cortés & Martínez, Nonlinearity 14 (2001); Modin & Verdier §2",
     implicit: true,
+    composed_order_limit: None,
 };
 
 impl Integrator for Dla {

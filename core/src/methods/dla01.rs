@@ -41,6 +41,7 @@ static INFO: MethodInfo = MethodInfo {
     order: 2,
     reference: "McLachlan & Perlmutter, J. Nonlinear Sci. 16 (2006); Modin & Verdier §2",
     implicit: true,
+    composed_order_limit: None,
 };
 
 impl Integrator for Dla01 {

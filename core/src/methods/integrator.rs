@@ -20,6 +20,10 @@ pub struct MethodInfo {
     pub reference: &'static str,
     /// Whether the step solves a nonlinear system (Newton).
     pub implicit: bool,
+    /// The order its symmetric compositions reach where it is below the scheme's (measured,
+    /// `docs/compositions.md`): LF carries λ and the DD family's q̇ leaves the constraint
+    /// manifold between steps, so their compositions stop at 4 (DD's q̇ itself at 2).
+    pub composed_order_limit: Option<u32>,
 }
 
 /// What a run steps: a method of the list ([`Integrator`]) or one composed of its steps

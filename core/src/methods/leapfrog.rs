@@ -20,6 +20,7 @@ static INFO: MethodInfo = MethodInfo {
     order: 2,
     reference: "McLachlan & Perlmutter, J. Nonlinear Sci. 16 (2006); Modin & Verdier §2",
     implicit: false,
+    composed_order_limit: Some(4),
 };
 
 impl Integrator for Leapfrog {

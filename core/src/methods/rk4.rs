@@ -47,6 +47,7 @@ static INFO: MethodInfo = MethodInfo {
     order: 4,
     reference: "Kutta (1901); Hairer, Nørsett & Wanner, Solving ODEs I, §II.1",
     implicit: false,
+    composed_order_limit: None,
 };
 
 impl Integrator for Rk4 {

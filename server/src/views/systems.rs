@@ -138,6 +138,10 @@ pub struct MethodInfoView {
     pub implicit: bool,
     /// Whether it may take a `composition`: its step is symmetric (DLA^α at α = 0.5 only).
     pub composable: bool,
+    /// The order its compositions reach where below the scheme's order (measured: LF, DD and
+    /// DD-AVF stop at 4; `docs/compositions.md`); absent where they reach it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub composed_order_limit: Option<u32>,
 }
 
 /// The limits a request must respect.
@@ -228,6 +232,7 @@ impl SystemsResponse {
                     reference: m.reference.into(),
                     implicit: m.implicit,
                     composable: composable.contains(&m.id),
+                    composed_order_limit: m.composed_order_limit,
                 })
                 .collect(),
             default_methods: Method::paper_five().iter().map(MethodView::of).collect(),
