@@ -29,7 +29,7 @@ pub mod solver;
 pub use catalogue::custom::CustomSystem;
 pub use catalogue::registry::{PAPER_SCENES, SYSTEMS, SystemCode, SystemEntry, system};
 pub use catalogue::scene::{
-    MAX_INITIAL, PreparedScene, Scene, SceneRequest, SceneSystem, SystemRequest,
+    CompiledSystems, MAX_INITIAL, PreparedScene, Scene, SceneRequest, SceneSystem, SystemRequest,
 };
 pub use error::{InputError, RunError, Short, StepFailure};
 pub use measure::bucket::{Bucket, Bucketer};

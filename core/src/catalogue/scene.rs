@@ -116,6 +116,38 @@ pub struct SceneRequest {
     pub t_end: Option<f64>,
 }
 
+/// Systems given as formulas, compiled, by their formulas and parameter values
+/// ([`Scene::resolve_cached`]).
+#[derive(Debug, Default)]
+pub struct CompiledSystems {
+    systems: std::collections::HashMap<String, Arc<CustomSystem>>,
+}
+
+impl CompiledSystems {
+    /// Most systems kept: beyond, compiling is no longer the cost worth saving.
+    pub const CAPACITY: usize = 4096;
+
+    fn get_or_compile(
+        &mut self,
+        spec: &FormulaSpec,
+        overrides: &[(String, f64)],
+        limits: &CustomLimits,
+    ) -> Result<Arc<CustomSystem>, InputError> {
+        // Bits, not values: -0 and 0 may compile differently, and NaN is refused anyway.
+        let bits: Vec<(&str, u64)> =
+            overrides.iter().map(|(n, v)| (n.as_str(), v.to_bits())).collect();
+        let key = format!("{spec:?}{bits:?}");
+        if let Some(found) = self.systems.get(&key) {
+            return Ok(found.clone());
+        }
+        let custom = Arc::new(CustomSystem::compile(spec, overrides, limits)?);
+        if self.systems.len() < Self::CAPACITY {
+            self.systems.insert(key, custom.clone());
+        }
+        Ok(custom)
+    }
+}
+
 /// A resolved, checked scene.
 #[derive(Debug, Clone)]
 pub struct Scene {
@@ -179,9 +211,22 @@ impl Scene {
 
     /// Resolves and checks a request, a system given as formulas within `limits`.
     pub fn resolve_within(req: &SceneRequest, limits: &CustomLimits) -> Result<Self, InputError> {
+        Self::resolve_cached(req, limits, &mut CompiledSystems::default())
+    }
+
+    /// [`resolve_within`](Self::resolve_within), a system given as formulas taken from
+    /// `compiled` when it was compiled there with the same parameters: a sweep resolves many
+    /// scenes of one system, and compiles it once per set of parameter values.
+    pub fn resolve_cached(
+        req: &SceneRequest,
+        limits: &CustomLimits,
+        compiled: &mut CompiledSystems,
+    ) -> Result<Self, InputError> {
         let entry = match &req.system {
             SystemRequest::Id(id) => system(id)?,
-            SystemRequest::Formulas(spec) => return Self::resolve_custom(req, spec, limits),
+            SystemRequest::Formulas(spec) => {
+                return Self::resolve_custom(req, spec, limits, compiled);
+            }
         };
         let info = entry.info();
         let preset = match &req.preset {
@@ -224,6 +269,7 @@ impl Scene {
         req: &SceneRequest,
         spec: &FormulaSpec,
         limits: &CustomLimits,
+        compiled: &mut CompiledSystems,
     ) -> Result<Self, InputError> {
         if req.preset.is_some() {
             return Err(InputError::CustomSystem {
@@ -233,7 +279,7 @@ impl Scene {
                     .into(),
             });
         }
-        let custom = CustomSystem::compile(spec, &req.params, limits)?;
+        let custom = compiled.get_or_compile(spec, &req.params, limits)?;
         let dof = custom.code.dof;
         let required = |field: &str, given: &Option<Vec<f64>>| {
             given.clone().ok_or_else(|| InputError::CustomSystem {
@@ -256,7 +302,7 @@ impl Scene {
             return Err(InputError::TEndTooShort { t_end, step });
         }
         let params = custom.compiled.values.clone();
-        let system = SceneSystem::Custom(Arc::new(custom));
+        let system = SceneSystem::Custom(custom);
         Self { system, preset: None, params, q, v, step, t_end }.consistent()
     }
 

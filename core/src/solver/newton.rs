@@ -44,6 +44,27 @@ impl NewtonConfig {
 /// Increments below this (relative) are taken to be in Newton's quadratic regime.
 const QUADRATIC_REGIME: f64 = 1e-6;
 
+std::thread_local! {
+    /// Newton iterations taken on this thread since the last [`take_iterations`]: a run's cost
+    /// in iterations, reported by a sweep, without a counter in every method's memory. Counted
+    /// once per solve, on its way out.
+    static ITERATIONS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+#[inline]
+fn counted<T>(iterations: u32, result: Result<T, StepFailure>) -> Result<T, StepFailure> {
+    ITERATIONS.with(|c| c.set(c.get() + u64::from(iterations)));
+    result
+}
+
+/// The Newton iterations this thread has taken since the last call, and a new count from 0.
+/// A run's driver takes it before and after the run ([`PreparedScene::run`]).
+///
+/// [`PreparedScene::run`]: crate::PreparedScene::run
+pub fn take_iterations() -> u64 {
+    ITERATIONS.with(|c| c.replace(0))
+}
+
 /// Residuals and Jacobian blocks at the current iterate.
 pub struct Linearization<const N: usize, const R: usize> {
     /// Momentum-equation residual (N).
@@ -85,12 +106,15 @@ pub fn solve<const N: usize, const R: usize>(
     let mut increment = f64::INFINITY;
     for it in 1..=cfg.max_iter {
         let l = linearize(v, lambda);
-        let (d_v, d_lambda) = saddle_increment(&l)?;
+        let (d_v, d_lambda) = match saddle_increment(&l) {
+            Ok(d) => d,
+            Err(e) => return counted(it, Err(e)),
+        };
         *v += d_v;
         *lambda += d_lambda;
         increment = d_v.amax().max(d_lambda.amax());
         if !increment.is_finite() {
-            return Err(StepFailure::NonFinite);
+            return counted(it, Err(StepFailure::NonFinite));
         }
         let scale = 1.0 + v.amax().max(lambda.amax());
         let driver = d_v[N - 1].abs();
@@ -110,11 +134,11 @@ pub fn solve<const N: usize, const R: usize>(
             (NewtonConfig::left_after(increment, previous), increment)
         };
         if cfg.converged(increment, (left, regime), previous, scale) {
-            return Ok(it);
+            return counted(it, Ok(it));
         }
         (previous, previous_driver) = (increment, driver);
     }
-    Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment })
+    counted(cfg.max_iter, Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment }))
 }
 
 /// Newton's increment `(δq̇₁, δλ)` from one linearization: `B δq̇₁ + G δλ = −f1`,
@@ -169,26 +193,26 @@ pub fn solve_one(
 ) -> Result<f64, StepFailure> {
     let mut previous = f64::INFINITY;
     let mut increment = f64::INFINITY;
-    for _ in 0..cfg.max_iter {
+    for it in 1..=cfg.max_iter {
         let (value, slope) = f(*x);
         if slope == 0.0 {
-            return Err(StepFailure::Singular);
+            return counted(it, Err(StepFailure::Singular));
         }
         let dx = -value / slope;
         *x += dx;
         increment = dx.abs();
         if !increment.is_finite() {
-            return Err(StepFailure::NonFinite);
+            return counted(it, Err(StepFailure::NonFinite));
         }
         let (left, scale) = (NewtonConfig::left_after(increment, previous), 1.0 + x.abs());
         if cfg.converged(increment, (left, increment), previous, scale)
             && increment <= linear_max * scale
         {
-            return Ok(dx);
+            return counted(it, Ok(dx));
         }
         previous = increment;
     }
-    Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment })
+    counted(cfg.max_iter, Err(StepFailure::NewtonDiverged { iterations: cfg.max_iter, increment }))
 }
 
 impl NewtonConfig {
