@@ -45,6 +45,11 @@ pub struct Config {
     /// Bounds on a system given as formulas: characters per formula, nesting depth, number
     /// of parameters.
     pub formulas: CustomLimits,
+    /// Most cells (the product of the axes' lengths) per sweep.
+    pub max_sweep_cells: u64,
+    /// Most steps one sweep may take in all (cells × methods × steps per run, sub-steps of a
+    /// composition counted).
+    pub max_sweep_steps: u64,
 }
 
 impl Default for Config {
@@ -64,6 +69,8 @@ impl Default for Config {
             panic_on_points: None,
             body_timeout: Duration::from_secs(10),
             formulas: CustomLimits::default(),
+            max_sweep_cells: 10_000,
+            max_sweep_steps: 2_000_000_000,
         }
     }
 }

@@ -3,7 +3,7 @@
 //! `GET /systems` lists what can be simulated; `POST /simulate` runs methods on a scene and
 //! answers with the error series of the first integrals, as one JSON document or as
 //! server-sent events; `POST /scorecard` judges methods × scenes; `POST /work-precision`
-//! measures cost against accuracy; `GET /openapi.json` describes it all; `GET /health`; `/`
+//! measures cost against accuracy; `POST /sweep` maps verdicts over parameter grids; `GET /openapi.json` describes it all; `GET /health`; `/`
 //! serves the embedded page. [`app`] builds the router, so tests run it in-process.
 //!
 //! The crate by folder, each depending only on those listed before it:
@@ -19,6 +19,8 @@
 //!   for server-sent events;
 //! - [`state`]: [`AppState`], shared by the handlers; at most `max_simulations` requests
 //!   compute at once, each holding a [`Slot`] ([`AppState::admit`]); one more gets 503;
+//! - [`sweep`]: parameter sweeps, checked into cells and computed by workers, for
+//!   `POST /sweep` and for `nhlab sweep` (shards, their merge);
 //! - [`json_object`]: [`JsonObject`], the extractor every body goes through;
 //! - [`routes`]: the handlers;
 //! - [`openapi`]: the document, gathered from all of the above;
@@ -37,6 +39,7 @@ pub mod request;
 pub mod routes;
 pub mod serve;
 pub mod state;
+pub mod sweep;
 pub mod views;
 
 pub use compute::{Caches, Cancel, CancelOnDrop, Delivery, Plan, Runner, Slot, ThreadClock};
@@ -46,7 +49,8 @@ pub use json_object::JsonObject;
 pub use observers::{JsonCollector, SseEmitter, Verdicts};
 pub use openapi::{ApiDoc, openapi_json};
 pub use request::{
-    MethodRequest, SceneSpec, ScorecardRequest, SimulateRequest, WorkPrecisionRequest,
+    AxisRequest, MethodRequest, SceneSpec, ScorecardRequest, SimulateRequest, SweepRequest,
+    WorkPrecisionRequest,
 };
 pub use routes::health::health;
 pub use routes::page::{Page, page};
@@ -96,6 +100,7 @@ pub fn app(state: AppState) -> Router {
         .route("/simulate", post(simulate))
         .route("/scorecard", post(scorecard))
         .route("/work-precision", post(work_precision))
+        .route("/sweep", post(routes::sweep::sweep))
         .route("/openapi.json", get(openapi_json))
         .fallback(page)
         .method_not_allowed_fallback(|method: Method, uri: Uri| async move {

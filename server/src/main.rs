@@ -1,6 +1,7 @@
 //! `nhlab`: serves the API and the page on `--addr` (or `NHLAB_ADDR`, default
 //! 127.0.0.1:8080) until Ctrl-C or SIGTERM, with the limits of [`Config`] as flags and
-//! environment variables (`nhlab --help`).
+//! environment variables (`nhlab --help`). `nhlab sweep` computes a sweep without a server
+//! (whole or one shard), and joins shards (`nhlab sweep --merge`).
 //!
 //! Connections are served by [`serve`](nhlab_server::serve), with its timeouts and cap as
 //! flags too.
@@ -12,8 +13,10 @@
 //! exits anyway, with code 1.
 
 use clap::Parser;
+use nhlab_server::sweep::shards::{self, MergeFormat, Shard};
 use nhlab_server::{AppState, Config, app, serve};
 use std::io::IsTerminal;
+use std::path::PathBuf;
 use std::time::Duration;
 use tokio::sync::watch;
 use tracing_subscriber::EnvFilter;
@@ -24,6 +27,8 @@ use tracing_subscriber::EnvFilter;
 #[derive(Debug, Parser)]
 #[command(name = "nhlab", version, about)]
 struct Args {
+    #[command(subcommand)]
+    command: Option<Command>,
     /// Address to listen on, HOST:PORT (the container sets 0.0.0.0:8080).
     #[arg(long, env = "NHLAB_ADDR", default_value = "127.0.0.1:8080")]
     addr: String,
@@ -95,6 +100,55 @@ struct Args {
           default_value_t = nhlab_server::serve::default_max_connections(),
           value_parser = connections)]
     max_connections: usize,
+    /// Most cells per sweep (POST /sweep).
+    #[arg(long, env = "NHLAB_MAX_SWEEP_CELLS", default_value_t = defaults().max_sweep_cells)]
+    max_sweep_cells: u64,
+    /// Most steps one sweep takes in all (cells × methods × steps per run).
+    #[arg(long, env = "NHLAB_MAX_SWEEP_STEPS", default_value_t = defaults().max_sweep_steps)]
+    max_sweep_steps: u64,
+}
+
+#[derive(Debug, clap::Subcommand)]
+enum Command {
+    /// Computes a sweep (a POST /sweep body in SPEC) without a server, writing its rows as
+    /// JSON lines after a header line; whole, or one shard of N (`--shard I/N`, cells c with
+    /// c mod N = I). `--merge` joins shard files into POST /sweep's answer.
+    ///
+    /// On SLURM: `--shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT`; on a Kubernetes
+    /// Indexed Job: `--shard $JOB_COMPLETION_INDEX/<completions>` (docs/scale-out.md).
+    Sweep(SweepArgs),
+}
+
+#[derive(Debug, clap::Args)]
+struct SweepArgs {
+    /// The sweep: a JSON file with a POST /sweep body (`-`: standard input).
+    #[arg(required_unless_present = "merge")]
+    spec: Option<PathBuf>,
+    /// Compute only shard I of N (0 ≤ I < N).
+    #[arg(long, value_name = "I/N", conflicts_with = "merge")]
+    shard: Option<Shard>,
+    /// Write to FILE instead of standard output.
+    #[arg(long, value_name = "FILE")]
+    out: Option<PathBuf>,
+    /// Keep the whole cells already in --out (a shard that stopped midway) and compute the
+    /// rest.
+    #[arg(long, requires = "out", conflicts_with = "merge")]
+    resume: bool,
+    /// Join these shard files into POST /sweep's answer (every cell once, one spec).
+    #[arg(long, value_name = "FILES", num_args = 1..)]
+    merge: Vec<PathBuf>,
+    /// What --merge writes: POST /sweep's JSON answer, or its CSV.
+    #[arg(long, value_enum, default_value = "json", requires = "merge")]
+    format: Format,
+    /// Worker threads (default: the number of cores).
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+enum Format {
+    Json,
+    Csv,
 }
 
 fn defaults() -> Config {
@@ -149,6 +203,8 @@ impl Args {
             max_inflight_bytes: self.max_inflight_bytes,
             cors_origins: self.cors_origin.clone(),
             body_timeout: Duration::from_secs_f64(self.body_timeout),
+            max_sweep_cells: self.max_sweep_cells,
+            max_sweep_steps: self.max_sweep_steps,
             formulas: nhlab_core::CustomLimits {
                 formula: nhlab_core::formula::Limits {
                     max_chars: self.max_formula_chars,
@@ -180,6 +236,9 @@ fn main() -> std::process::ExitCode {
         .with_ansi(std::io::stderr().is_terminal())
         .init();
     let args = Args::parse();
+    if let Some(Command::Sweep(sweep)) = &args.command {
+        return sweep_command(sweep);
+    }
     let config = args.config();
     // The blocking pool follows the slots: every run of every admitted simulation, its
     // property measurements and the checks at once, and no more threads than that whatever
@@ -202,6 +261,63 @@ fn main() -> std::process::ExitCode {
         }
         Err(e) => {
             tracing::error!("cannot start the async runtime: {e}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+/// `nhlab sweep`: computes a shard, or merges shard files.
+fn sweep_command(args: &SweepArgs) -> std::process::ExitCode {
+    let started = std::time::Instant::now();
+    let result = if args.merge.is_empty() {
+        let spec = args.spec.clone().unwrap_or_else(|| "-".into());
+        let text = if spec.as_os_str() == "-" {
+            std::io::read_to_string(std::io::stdin())
+        } else {
+            std::fs::read_to_string(&spec)
+        };
+        let file = spec.display().to_string();
+        let threads = args.threads.unwrap_or_else(|| {
+            std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+        });
+        let opts = shards::Options {
+            shard: args.shard.unwrap_or(Shard::WHOLE),
+            out: args.out.clone(),
+            resume: args.resume,
+            threads,
+        };
+        text.map_err(|source| shards::ShardError::Io { path: spec.clone(), source })
+            .and_then(|text| shards::run(&text, &file, &opts))
+            .map(|r| {
+                let shard = opts.shard;
+                tracing::info!(
+                    "shard {}/{}: {} cells ({} kept from before) in {:.1} s",
+                    shard.index,
+                    shard.count,
+                    r.cells,
+                    r.kept,
+                    started.elapsed().as_secs_f64()
+                );
+            })
+    } else {
+        let format = match args.format {
+            Format::Json => MergeFormat::Json,
+            Format::Csv => MergeFormat::Csv,
+        };
+        shards::merge(&args.merge, format).and_then(|text| {
+            let (path, written) = match &args.out {
+                Some(path) => (path.clone(), std::fs::write(path, text)),
+                None => {
+                    ("-".into(), std::io::Write::write_all(&mut std::io::stdout(), text.as_bytes()))
+                }
+            };
+            written.map_err(|source| shards::ShardError::Io { path, source })
+        })
+    };
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("nhlab sweep: {e}");
             std::process::ExitCode::FAILURE
         }
     }

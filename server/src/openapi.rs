@@ -5,9 +5,10 @@
 //! This module reads every other; only the router reads it.
 
 use crate::error::ErrorBody;
-use crate::routes::{health, scorecard, simulate, systems, work_precision};
+use crate::routes::{health, scorecard, simulate, sweep, systems, work_precision};
 use crate::views::{
-    DoneEvent, PointsEvent, ProgressEvent, RunEvent, SceneView, ShutdownEvent, VerdictView,
+    DoneEvent, PointsEvent, ProgressEvent, RunEvent, SceneView, ShutdownEvent, SweepCell,
+    SweepDone, SweepHead, SweepProgress, VerdictView,
 };
 use axum::Json;
 use utoipa::OpenApi;
@@ -21,12 +22,14 @@ use utoipa::OpenApi;
             test systems, the integrators of the literature and the error of every first \
             integral over time, each judged exact, bounded or drift; a scorecard of methods × \
             scenes with the methods' measured reversibility and fibration preservation; \
-            work–precision: run time against final error for each method and step size."
+            work–precision: run time against final error for each method and step size; sweeps: verdicts over grids of parameters, steps, \
+            initial states and method parameters."
     ),
     paths(
         simulate::simulate,
         scorecard::scorecard,
         work_precision::work_precision,
+        sweep::sweep,
         systems::systems,
         health::health,
         openapi_json
@@ -39,6 +42,10 @@ use utoipa::OpenApi;
         RunEvent,
         DoneEvent,
         ShutdownEvent,
+        SweepHead,
+        SweepCell,
+        SweepProgress,
+        SweepDone,
         ErrorBody
     ))
 )]

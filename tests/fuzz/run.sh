@@ -38,7 +38,8 @@ cleanup() {
 trap 'status=$?; cleanup' EXIT
 
 "$binary" --addr 127.0.0.1:0 --max-simulations 8 \
-    --max-steps-json 20000 --max-steps-stream 20000 --max-points 2000 2>"$work/server.log" &
+    --max-steps-json 20000 --max-steps-stream 20000 --max-points 2000 \
+    --max-sweep-cells 64 --max-sweep-steps 200000 2>"$work/server.log" &
 server_pid=$!
 url=
 for _ in $(seq 100); do

@@ -163,7 +163,8 @@ fn check_steps(
     Ok(())
 }
 
-fn methods(given: Option<&[MethodRequest]>, config: &Config) -> Result<Vec<Method>, AppError> {
+/// The methods of a request (the paper's five when none are given), within the limit.
+pub fn methods(given: Option<&[MethodRequest]>, config: &Config) -> Result<Vec<Method>, AppError> {
     let Some(given) = given else {
         return Ok(Method::paper_five().to_vec());
     };
@@ -183,30 +184,28 @@ fn methods(given: Option<&[MethodRequest]>, config: &Config) -> Result<Vec<Metho
             ),
         ));
     }
-    given
-        .iter()
-        .enumerate()
-        .map(|(i, m)| {
-            let spec = MethodSpec {
-                id: m.id.clone(),
-                params: m.params.clone(),
-                composition: m.composition.clone(),
-            };
-            Method::from_spec(&spec).map_err(|e| {
-                // A parameter's error points into `params` where it was given there.
-                let in_params = m.nested
-                    && !matches!(
-                        e,
-                        InputError::UnknownMethod { .. } | InputError::Composition { .. }
-                    );
-                let e = if in_params { e.within("params") } else { e };
-                AppError::from(e.within(&format!("methods[{i}]")))
-            })
-        })
-        .collect()
+    given.iter().enumerate().map(|(i, m)| method(i, m)).collect()
 }
 
-fn points(given: Option<i64>, config: &Config) -> Result<usize, AppError> {
+/// Method `i` of a request, its errors at `methods[i]` (and within its `params` where it
+/// gave them there).
+pub fn method(i: usize, m: &MethodRequest) -> Result<Method, AppError> {
+    let spec = MethodSpec {
+        id: m.id.clone(),
+        params: m.params.clone(),
+        composition: m.composition.clone(),
+    };
+    Method::from_spec(&spec).map_err(|e| {
+        // A parameter's error points into `params` where it was given there.
+        let in_params = m.nested
+            && !matches!(e, InputError::UnknownMethod { .. } | InputError::Composition { .. });
+        let e = if in_params { e.within("params") } else { e };
+        AppError::from(e.within(&format!("methods[{i}]")))
+    })
+}
+
+/// Buckets per series: `given`, or 1000; between 1 and the limit.
+pub fn points(given: Option<i64>, config: &Config) -> Result<usize, AppError> {
     let points = given.unwrap_or(1000);
     if points < 1 || points as u64 > config.max_points {
         return Err(AppError::invalid(

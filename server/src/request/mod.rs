@@ -1,5 +1,6 @@
 //! The request bodies: [`SimulateRequest`] (`POST /simulate`), [`ScorecardRequest`] with its
-//! [`SceneSpec`]s (`POST /scorecard`), [`WorkPrecisionRequest`] (`POST /work-precision`), and
+//! [`SceneSpec`]s (`POST /scorecard`), [`WorkPrecisionRequest`] (`POST /work-precision`),
+//! [`SweepRequest`] with its [`AxisRequest`]s (`POST /sweep`, `nhlab sweep`), and
 //! the [`MethodRequest`] they share. They are plain serde types; reading a body into one (its
 //! size, its shape, the error responses) is [`JsonObject`](crate::JsonObject)'s work, and
 //! checking its values against the core and the limits is [`Plan`](crate::Plan)'s. Only
@@ -13,6 +14,7 @@ mod scene_spec;
 pub(crate) mod schemas;
 mod scorecard_request;
 mod simulate_request;
+mod sweep_request;
 mod system_field;
 mod work_precision_request;
 
@@ -23,5 +25,6 @@ pub use scene_spec::SceneSpec;
 pub use scorecard_request::ScorecardRequest;
 pub use simulate_request::SimulateRequest;
 pub(crate) use simulate_request::scene_body;
+pub use sweep_request::{AxisRequest, SweepRequest};
 pub use system_field::{FormulaSystem, SystemField};
 pub use work_precision_request::WorkPrecisionRequest;

@@ -97,7 +97,7 @@ pub async fn simulate(
 /// Whether the client asked for server-sent events: `text/event-stream` in `Accept` with a
 /// quality above 0 and not below that of `application/json` (or of the ranges that cover it:
 /// `application/*`, `*/*`); a tie streams.
-fn wants_stream(headers: &HeaderMap) -> bool {
+pub(crate) fn wants_stream(headers: &HeaderMap) -> bool {
     let quality = |wanted: &str| {
         headers
             .get_all(header::ACCEPT)
@@ -126,9 +126,9 @@ fn wants_stream(headers: &HeaderMap) -> bool {
 
 /// A JSON answer and its share of the budget of answers in flight, given back when the
 /// answer's memory is: once the connection has written its last byte, or is dropped.
-struct Answer {
-    body: Vec<u8>,
-    _budget: BudgetGuard,
+pub(crate) struct Answer {
+    pub(crate) body: Vec<u8>,
+    pub(crate) _budget: BudgetGuard,
 }
 
 impl AsRef<[u8]> for Answer {

@@ -16,6 +16,7 @@ mod scorecard;
 mod series;
 mod simulate_response;
 mod status;
+mod sweep;
 mod systems;
 mod verdict;
 mod work_precision;
@@ -32,6 +33,10 @@ pub use scorecard::{
 pub use series::SeriesView;
 pub use simulate_response::SimulateResponse;
 pub use status::Status;
+pub use sweep::{
+    AxisView, RowStatus, SimulateEcho, SweepCell, SweepDone, SweepHead, SweepProgress,
+    SweepResponse, SweepRow,
+};
 pub use systems::{
     LimitsView, MethodInfoView, PaperScene, ParamView, PresetView, SystemView, SystemsResponse,
 };

@@ -165,6 +165,10 @@ pub struct LimitsView {
     pub formula_depth: usize,
     /// Most parameters of a system given as formulas.
     pub formula_parameters: usize,
+    /// Most cells per sweep.
+    pub max_sweep_cells: u64,
+    /// Most steps one sweep takes in all.
+    pub max_sweep_steps: u64,
 }
 
 fn bound(x: f64) -> Option<f64> {
@@ -264,6 +268,8 @@ impl SystemsResponse {
                 formula_chars: config.formulas.formula.max_chars,
                 formula_depth: config.formulas.formula.max_depth,
                 formula_parameters: config.formulas.max_parameters,
+                max_sweep_cells: config.max_sweep_cells,
+                max_sweep_steps: config.max_sweep_steps,
             },
         }
     }

@@ -1,0 +1,361 @@
+//! [`Sweep`]: a sweep request checked into its cells, each with its `/simulate` body, its
+//! scene resolved and its methods, ready to compute. What is wrong whatever the cell (an
+//! unknown system, a bad path, too many cells or steps) is the request's error, with its
+//! field; what an axis's value made wrong (an initial velocity off the constraints for this
+//! ε, a step longer than t_end, an α out of range) is that cell's, reported in its rows.
+
+use crate::compute::{Delivery, check_answer_bytes, method, methods, points};
+use crate::config::Config;
+use crate::error::AppError;
+use crate::request::{MethodRequest, SimulateRequest, SweepRequest, SystemField};
+use crate::sweep::axis::{Axis, Target, has_param};
+use crate::views::{AxisView, CRITERION, MethodView, SweepHead};
+use nhlab_core::measure::latitude::LatitudeAxis;
+use nhlab_core::{CompiledSystems, InputError, Method, PreparedScene, Scene, Short};
+
+/// Where a sweep's latitude axes come from (a server's cache, or computed).
+pub type AxisSource<'a> = &'a (dyn Fn(&Scene) -> Result<LatitudeAxis, InputError> + Sync);
+
+/// Most axes per sweep.
+pub const MAX_AXES: usize = 3;
+
+/// A checked sweep.
+#[derive(Debug)]
+pub struct Sweep {
+    /// What is swept, as the answer reports it.
+    pub head: SweepHead,
+    /// The axes.
+    pub axes: Vec<Axis>,
+    /// Buckets per series.
+    pub points: usize,
+    /// The integrals as the request named them (all the system has when `None`).
+    pub integrals: Option<Vec<String>>,
+    /// The cells, by index.
+    pub cells: Vec<Cell>,
+    /// Steps all the runs take together, sub-steps counted.
+    pub total_steps: u64,
+}
+
+/// One cell: its values, its body, its scene and its methods.
+#[derive(Debug)]
+pub struct Cell {
+    /// Its value on each axis.
+    pub values: Vec<f64>,
+    /// The `/simulate` body of the cell, its values in place (without methods).
+    pub body: SimulateRequest,
+    /// The scene, or why the cell's values make it invalid (`field: reason`).
+    pub scene: Result<Scene, String>,
+    /// Each method as requested for this cell, and as resolved (or why not).
+    pub methods: Vec<(MethodRequest, Result<Method, String>)>,
+}
+
+impl Sweep {
+    /// Checks `req` against `config` for an answer delivered as `delivery`; the first valid
+    /// cell's scene is prepared (with its latitude axis from `axis`) to check the integrals.
+    pub fn check(
+        req: &SweepRequest,
+        config: &Config,
+        delivery: Delivery,
+        axis: AxisSource,
+    ) -> Result<Self, AppError> {
+        let given = match &req.axes {
+            None => return Err(AppError::invalid("axes", "axes is required: 1 to 3 axes")),
+            Some(a) if a.is_empty() || a.len() > MAX_AXES => {
+                return Err(AppError::invalid(
+                    "axes",
+                    format!("a sweep has 1 to {MAX_AXES} axes, got {}", a.len()),
+                ));
+            }
+            Some(a) => a,
+        };
+        let axes = given
+            .iter()
+            .enumerate()
+            .map(|(k, a)| Axis::check(k, a, config.max_sweep_cells))
+            .collect::<Result<Vec<_>, _>>()?;
+        if let Some(k) = (1..axes.len()).find(|&k| axes[..k].iter().any(|a| a.path == axes[k].path))
+        {
+            return Err(AppError::invalid(
+                format!("axes[{k}].path"),
+                format!("{} is swept twice; give each path once", axes[k].path),
+            ));
+        }
+        let cells: f64 = axes.iter().map(|a| a.values.len() as f64).product();
+        if cells > config.max_sweep_cells as f64 {
+            return Err(AppError::invalid(
+                "axes",
+                format!(
+                    "{} cells (the product of the axes' lengths) exceed the limit of {} per \
+                     sweep (max_sweep_cells)",
+                    Short(cells),
+                    config.max_sweep_cells
+                ),
+            ));
+        }
+        let points = points(req.points, config)?;
+        let base_methods = methods(req.methods.as_deref(), config)?;
+        let requests: Vec<MethodRequest> = match &req.methods {
+            Some(m) => m.clone(),
+            None => base_methods.iter().map(request_of).collect(),
+        };
+        check_targets(&axes, req, &requests)?;
+        let (q0, v0) = initial_state(req);
+        for (k, a) in axes.iter().enumerate() {
+            let (len, name) = match a.target {
+                Target::Q(i) => (q0.len(), ("q", i)),
+                Target::V(i) => (v0.len(), ("v", i)),
+                _ => continue,
+            };
+            if name.1 >= len {
+                let why = if len == 0 {
+                    format!("give {} in the scene to sweep its components", name.0)
+                } else {
+                    format!("{} has {len} components, {0}[0] to {0}[{}]", name.0, len - 1)
+                };
+                return Err(AppError::invalid(format!("axes[{k}].path"), why));
+            }
+        }
+        let body = req.to_simulate(None, req.points);
+        let method_axes = axes.iter().any(|a| matches!(a.target, Target::Method { .. }));
+        let mut compiled = CompiledSystems::default();
+        let n = cells as usize;
+        let mut out = Vec::with_capacity(n);
+        for c in 0..n {
+            let values = cell_values(&axes, c);
+            let (mut body, mut requests) = (body.clone(), requests.clone());
+            for (a, &x) in axes.iter().zip(&values) {
+                a.apply(x, &mut body, &mut requests, &q0, &v0);
+            }
+            let scene =
+                match Scene::resolve_cached(&body.scene_request(), &config.formulas, &mut compiled)
+                {
+                    Ok(scene) => Ok(scene),
+                    Err(e) => {
+                        let e = AppError::from(e);
+                        let path = e.path.clone().unwrap_or_default();
+                        if !axes.iter().any(|a| a.may_cause(&path)) {
+                            return Err(e);
+                        }
+                        Err(format!("{path}: {}", e.message))
+                    }
+                };
+            let methods = requests
+                .into_iter()
+                .enumerate()
+                .map(|(i, m)| {
+                    let resolved = if method_axes {
+                        method(i, &m)
+                            .map_err(|e| format!("{}: {}", e.path.unwrap_or_default(), e.message))
+                    } else {
+                        Ok(base_methods[i])
+                    };
+                    (m, resolved)
+                })
+                .collect();
+            out.push(Cell { values, body, scene, methods });
+        }
+        let total_steps = check_steps(&out, &axes, config, delivery)?;
+        let integrals = req.integrals.clone();
+        let measured = match out.iter().find_map(|c| c.scene.as_ref().ok()) {
+            Some(scene) => {
+                let prepared = prepare(scene, integrals.as_deref(), axis)?;
+                prepared.integrals.iter().map(|i| i.id().to_owned()).collect()
+            }
+            None => integrals.clone().unwrap_or_default(),
+        };
+        let head = SweepHead {
+            axes: axes
+                .iter()
+                .map(|a| AxisView { path: a.path.clone(), values: a.values.clone() })
+                .collect(),
+            methods: base_methods.iter().map(MethodView::of).collect(),
+            integrals: measured,
+            cells: n,
+            criterion: CRITERION.to_owned(),
+        };
+        let sweep = Self { head, axes, points, integrals, cells: out, total_steps };
+        if delivery != Delivery::Stream {
+            let rows = (sweep.cells.len() * sweep.head.methods.len()) as u64;
+            check_answer_bytes(rows.saturating_mul(sweep.row_bytes()), config, " (its rows)")?;
+        }
+        Ok(sweep)
+    }
+
+    /// About how many bytes a row takes as JSON.
+    pub fn row_bytes(&self) -> u64 {
+        let cell = &self.cells[0];
+        let (request, method) = &cell.methods[0];
+        let echo = self.echo(cell, request, method.as_ref().ok());
+        let body = serde_json::to_vec(&echo).map_or(1000, |b| b.len()) as u64;
+        300 + 130 * self.head.integrals.len() as u64 + 20 * cell.values.len() as u64 + body
+    }
+}
+
+/// Prepares a cell's scene for the integrals asked for, errors at `integrals[i]`.
+pub fn prepare(
+    scene: &Scene,
+    integrals: Option<&[String]>,
+    axis: AxisSource,
+) -> Result<PreparedScene, AppError> {
+    scene.clone().prepare_with_latitude(integrals, axis).map_err(|e| {
+        let name = match &e {
+            InputError::UnknownIntegral { name, .. } => Some(name),
+            InputError::IntegralUnavailable { integral, .. } => Some(integral),
+            _ => None,
+        };
+        let index = name.and_then(|n| integrals?.iter().position(|x| x == n));
+        let mut err = AppError::from(e);
+        if let Some(i) = index {
+            err.path = Some(format!("integrals[{i}]"));
+        }
+        err
+    })
+}
+
+/// The values of cell `c`: the last axis varies fastest.
+pub fn cell_values(axes: &[Axis], mut c: usize) -> Vec<f64> {
+    let mut values = vec![0.0; axes.len()];
+    for (k, a) in axes.iter().enumerate().rev() {
+        let n = a.values.len();
+        values[k] = a.values[c % n];
+        c /= n;
+    }
+    values
+}
+
+/// A method as a request gives it.
+pub fn request_of(m: &Method) -> MethodRequest {
+    let params = m.params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect();
+    MethodRequest {
+        composition: m.composition.map(|c| c.id().to_owned()),
+        ..MethodRequest::new(m.info().id, params)
+    }
+}
+
+/// The scene's initial state where it gives none: its preset's (empty when unknown).
+fn initial_state(req: &SweepRequest) -> (Vec<f64>, Vec<f64>) {
+    let preset = match &req.system {
+        SystemField::Id(id) => nhlab_core::system(id).ok().and_then(|entry| {
+            let presets = entry.info().presets;
+            match &req.preset {
+                None => presets.first(),
+                Some(p) => presets.iter().find(|x| x.id == p),
+            }
+        }),
+        SystemField::Formulas(_) => None,
+    };
+    let q = req.q.clone().or_else(|| preset.map(|p| p.q.to_vec())).unwrap_or_default();
+    let v = req.v.clone().or_else(|| preset.map(|p| p.v.to_vec())).unwrap_or_default();
+    (q, v)
+}
+
+/// Every axis on a parameter names one the system (or a targeted method) has.
+fn check_targets(
+    axes: &[Axis],
+    req: &SweepRequest,
+    methods: &[MethodRequest],
+) -> Result<(), AppError> {
+    let system_params: Option<Vec<String>> = match &req.system {
+        SystemField::Id(id) => nhlab_core::system(id)
+            .ok()
+            .map(|e| e.info().params.iter().map(|p| p.name.to_owned()).collect()),
+        SystemField::Formulas(f) => Some(f.parameters.0.iter().map(|p| p.0.clone()).collect()),
+    };
+    for (k, a) in axes.iter().enumerate() {
+        let at = format!("axes[{k}].path");
+        match &a.target {
+            Target::Param(name) => {
+                if let Some(names) = &system_params
+                    && !names.contains(name)
+                {
+                    let valid = if names.is_empty() { "none".into() } else { names.join(", ") };
+                    return Err(AppError::invalid(
+                        at,
+                        format!("the system has no parameter `{name}` (its parameters: {valid})"),
+                    ));
+                }
+            }
+            Target::Method { index: Some(i), name } => {
+                let Some(m) = methods.get(*i) else {
+                    return Err(AppError::invalid(
+                        at,
+                        format!(
+                            "there are {} methods, methods[0] to methods[{}]",
+                            methods.len(),
+                            methods.len().saturating_sub(1)
+                        ),
+                    ));
+                };
+                if !has_param(&m.id, name) {
+                    return Err(AppError::invalid(
+                        at,
+                        format!("method {} has no parameter `{name}`", m.id),
+                    ));
+                }
+            }
+            Target::Method { index: None, name }
+                if !methods.iter().any(|m| has_param(&m.id, name)) =>
+            {
+                return Err(AppError::invalid(
+                    at,
+                    format!("none of the methods has a parameter `{name}`"),
+                ));
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a sweep with a run over the step limit of its delivery, or more steps in all than
+/// `max_sweep_steps`; returns the total.
+fn check_steps(
+    cells: &[Cell],
+    axes: &[Axis],
+    config: &Config,
+    delivery: Delivery,
+) -> Result<u64, AppError> {
+    let limit = match delivery {
+        Delivery::Stream => config.max_steps_stream,
+        Delivery::Json | Delivery::JsonOnly => config.max_steps_json,
+    };
+    let mut total: u64 = 0;
+    for cell in cells {
+        let Ok(scene) = &cell.scene else { continue };
+        for (_, m) in &cell.methods {
+            let Ok(m) = m else { continue };
+            let steps = scene.steps().saturating_mul(m.stages() as u64);
+            if steps > limit {
+                let at: Vec<String> = axes
+                    .iter()
+                    .zip(&cell.values)
+                    .map(|(a, x)| format!("{} = {}", a.path, Short(*x)))
+                    .collect();
+                return Err(AppError::invalid(
+                    "axes",
+                    format!(
+                        "the run of {} at {} takes {steps} steps, over the limit of {limit} \
+                         steps per run (max_steps_{}); narrow the axes or shorten t_end",
+                        m.label(),
+                        at.join(", "),
+                        if delivery == Delivery::Stream { "stream" } else { "json" },
+                    ),
+                ));
+            }
+            total = total.saturating_add(steps);
+        }
+    }
+    if total > config.max_sweep_steps {
+        return Err(AppError::invalid(
+            "axes",
+            format!(
+                "the sweep would take {} steps in all (cells × methods × steps per run), over \
+                 the limit of {} (max_sweep_steps); narrow the axes, shorten t_end or \
+                 lengthen the step, or split it into shards (nhlab sweep --shard)",
+                Short(total as f64),
+                Short(config.max_sweep_steps as f64)
+            ),
+        ));
+    }
+    Ok(total)
+}

@@ -1,0 +1,171 @@
+//! Computing a sweep's cells: [`Sweep::compute`] runs every method of one cell and makes its
+//! rows; [`Sweep::work`] is a worker's loop, taking the next cell of a shared list until none
+//! is left or the sweep is cancelled. The server runs one worker per core on its blocking
+//! pool; `nhlab sweep` one per thread it is given. Either way a cell's rows depend on the
+//! cell alone, so the same request gives the same rows, whatever the workers and the order.
+
+use crate::compute::{Cancel, PROGRESS_EVERY, ThreadClock};
+use crate::observers::JsonCollector;
+use crate::request::{FormulaSystem, MethodRequest, SystemField};
+use crate::sweep::plan::{AxisSource, Cell, Sweep, prepare};
+use crate::views::{MethodView, RowStatus, SimulateEcho, SweepCell, SweepRow};
+use nhlab_core::solver::newton;
+use nhlab_core::{Method, RunConfig, RunError, Scene};
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+impl Sweep {
+    /// A worker: computes the cells `order[k]` for the `k`s it takes from `next`, handing each
+    /// to `out` (which returns false to stop), until `order` is done or `cancel` is set.
+    pub fn work(
+        &self,
+        order: &[usize],
+        next: &AtomicUsize,
+        cancel: &Cancel,
+        axis: AxisSource,
+        out: &mut dyn FnMut(SweepCell) -> bool,
+    ) {
+        loop {
+            let k = next.fetch_add(1, Ordering::Relaxed);
+            if k >= order.len() || cancel.is_cancelled() {
+                return;
+            }
+            let Some(cell) = self.compute(order[k], cancel, axis) else { return };
+            if !out(cell) {
+                return;
+            }
+        }
+    }
+
+    /// The rows of cell `c`, or `None` if the sweep was cancelled meanwhile.
+    pub fn compute(&self, c: usize, cancel: &Cancel, axis: AxisSource) -> Option<SweepCell> {
+        let cell = &self.cells[c];
+        let prepared = match &cell.scene {
+            Ok(scene) => prepare(scene, self.integrals.as_deref(), axis)
+                .map_err(|e| format!("{}: {}", e.path.unwrap_or_default(), e.message)),
+            Err(e) => Err(e.clone()),
+        };
+        let cfg = RunConfig { points: self.points, progress_every: PROGRESS_EVERY };
+        let mut rows = Vec::with_capacity(cell.methods.len());
+        for (i, (request, method)) in cell.methods.iter().enumerate() {
+            let view = method.as_ref().map_or_else(|_| view_of(request), MethodView::of);
+            let mut row = SweepRow {
+                cell: c,
+                values: cell.values.clone(),
+                method_index: i,
+                method: view,
+                status: RowStatus::Invalid,
+                error: None,
+                steps: 0,
+                cpu_ms: None,
+                newton_iterations: None,
+                verdicts: BTreeMap::new(),
+                simulate: self.echo(cell, request, method.as_ref().ok()),
+            };
+            match (&prepared, method) {
+                (Err(e), _) | (_, Err(e)) => row.error = Some(e.clone()),
+                (Ok(prepared), Ok(method)) => {
+                    let mut collector = JsonCollector::new(&[], cancel.clone());
+                    let clock = ThreadClock::start();
+                    newton::take_iterations();
+                    let outcome = catch_unwind(AssertUnwindSafe(|| {
+                        prepared.run(method, &cfg, &mut collector)
+                    }));
+                    let iterations = newton::take_iterations();
+                    row.cpu_ms = clock.elapsed_ms();
+                    match outcome {
+                        Ok(outcome) => {
+                            if let Some(RunError::Cancelled { .. }) = outcome.error {
+                                return None;
+                            }
+                            row.status = match outcome.error {
+                                None => RowStatus::Ok,
+                                Some(_) => RowStatus::Failed,
+                            };
+                            row.error = outcome.error.map(|e| e.to_string());
+                            row.steps = outcome.steps;
+                            row.newton_iterations = method.info().implicit.then_some(iterations);
+                            row.verdicts = collector.verdicts.all();
+                        }
+                        Err(_) => {
+                            tracing::error!(cell = c, method = i, "a sweep's run panicked");
+                            row.status = RowStatus::Failed;
+                            row.error = Some("internal error: the simulation panicked".into());
+                        }
+                    }
+                }
+            }
+            rows.push(row);
+        }
+        Some(SweepCell { cell: c, values: cell.values.clone(), rows })
+    }
+
+    /// The `/simulate` body of one row: the cell's scene as resolved (or as given, when it
+    /// is invalid) and the one method.
+    pub(crate) fn echo(
+        &self,
+        cell: &Cell,
+        request: &MethodRequest,
+        method: Option<&Method>,
+    ) -> SimulateEcho {
+        let body = &cell.body;
+        let method = match method {
+            Some(m) => method_body(&crate::sweep::plan::request_of(m)),
+            None => method_body(request),
+        };
+        let mut echo = SimulateEcho {
+            system: body.system.clone(),
+            preset: body.preset.clone(),
+            params: body.params.iter().flat_map(|p| p.0.iter().cloned()).collect(),
+            q: body.q.clone(),
+            v: body.v.clone(),
+            step: body.step,
+            t_end: body.t_end,
+            integrals: body.integrals.clone(),
+            methods: vec![method],
+            points: self.points,
+        };
+        if let Ok(scene) = &cell.scene {
+            resolved(&mut echo, scene);
+        }
+        echo
+    }
+}
+
+/// Fills `echo` with every value of the resolved `scene`.
+fn resolved(echo: &mut SimulateEcho, scene: &Scene) {
+    echo.system = match scene.system.custom() {
+        None => SystemField::Id(scene.system.id().to_owned()),
+        Some(c) => SystemField::Formulas(Box::new(FormulaSystem::of(&c.spec))),
+    };
+    echo.preset = scene.preset.map(str::to_owned);
+    echo.params = scene.named_params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect();
+    echo.q = Some(scene.q.clone());
+    echo.v = Some(scene.v.clone());
+    echo.step = Some(scene.step);
+    echo.t_end = Some(scene.t_end);
+}
+
+/// A method request as a `/simulate` body gives it: `{"id": …, "alpha": …, "composition": …}`.
+fn method_body(m: &MethodRequest) -> BTreeMap<String, Value> {
+    let mut out = BTreeMap::from([("id".to_owned(), Value::from(m.id.clone()))]);
+    for (name, value) in &m.params {
+        out.insert(name.clone(), Value::from(*value));
+    }
+    if let Some(c) = &m.composition {
+        out.insert("composition".into(), Value::from(c.clone()));
+    }
+    out
+}
+
+/// The view of a method that did not resolve: as requested.
+fn view_of(m: &MethodRequest) -> MethodView {
+    MethodView {
+        id: m.id.clone(),
+        params: m.params.iter().cloned().collect(),
+        composition: m.composition.clone(),
+        label: m.id.clone(),
+    }
+}
