@@ -1,6 +1,6 @@
-// Talking to the server: the catalog (`GET /systems`) and the streamed simulation
-// (`POST /simulate` with `Accept: text/event-stream`), the scorecard and work–precision
-// (JSON). Browsers' EventSource only does GET,
+// Talking to the server: the catalog (`GET /systems`), the streamed simulation and sweep
+// (`POST /simulate` and `POST /sweep` with `Accept: text/event-stream`), the scorecard and
+// work–precision (JSON). Browsers' EventSource only does GET,
 // so the stream is read with fetch and parsed by eventsource-parser; cancelling is aborting
 // the fetch, which closes the connection and stops the computation on the server.
 
@@ -40,8 +40,17 @@ export async function fetchCatalog() {
  * `POST /simulate`, streamed: calls `onEvent(name, data)` for every event until the stream
  * ends. Rejects with an ApiError for a 4xx/5xx answer, with an AbortError when `signal` aborts.
  */
-export async function simulate(body, { signal, onEvent }) {
-  const response = await fetch('simulate', {
+export function simulate(body, options) {
+  return stream('simulate', body, options);
+}
+
+/** `POST /sweep`, streamed (`start`, `cell`, `progress`, `done` events), as `simulate`. */
+export function sweep(body, options) {
+  return stream('sweep', body, options);
+}
+
+async function stream(path, body, { signal, onEvent }) {
+  const response = await fetch(path, {
     method: 'POST',
     headers: { 'Content-Type': 'application/json', Accept: 'text/event-stream' },
     body: JSON.stringify(body),

@@ -1,9 +1,9 @@
 // The page's wiring: load the catalog, restore the state from the URL, run a simulation on
 // submit (or when the URL says run=1), feed the stream into a Result and redraw the plots,
-// progress and runs table once per animation frame. Cancel aborts the fetch. Three more views,
-// Scorecard, Paper and Work–precision, live in the URL as `?view=scorecard` / `?view=paper` /
-// `?view=work-precision` (with the form's scene); clicking a scorecard cell opens its scene
-// here. "Custom system" in the system select opens the formula editor, filled from the system
+// progress and runs table once per animation frame. Cancel aborts the fetch. Four more views,
+// Scorecard, Paper, Work–precision and Map, live in the URL as `?view=scorecard` / `?view=paper` /
+// `?view=work-precision` / `?view=map` (the last two with the form's scene); clicking a
+// scorecard or map cell opens its scene here. "Custom system" in the system select opens the formula editor, filled from the system
 // shown or from the built-in its "Start from" select picks.
 
 import 'uplot/dist/uPlot.min.css';
@@ -13,6 +13,7 @@ import { Form } from './form.js';
 import { PaperView } from './paper.js';
 import { ScorecardView } from './scorecard.js';
 import { WorkPrecisionView } from './workprecision.js';
+import { MapView } from './map.js';
 import { Plots } from './plots.js';
 import { Result } from './result.js';
 import { renderRuns } from './runs.js';
@@ -49,6 +50,17 @@ async function start() {
   views.scorecard = new ScorecardView($('view-scorecard'), { catalog, onOpen: openScene });
   views.paper = new PaperView($('view-paper'), { catalog });
   views['work-precision'] = new WorkPrecisionView($('view-work-precision'), { read: () => form.read(), catalog });
+  views.map = new MapView($('view-map'), {
+    read: () => form.read(),
+    fill: (state) => form.fill(state),
+    catalog,
+    onOpen: (body) => openScene(body, body.methods ?? []),
+    onFormError: (path, message) => {
+      form.clearErrors();
+      return form.showError(path, message);
+    },
+    onEdit: () => setView('main', true),
+  });
   const wanted = new URLSearchParams(location.search).get('view');
   if (Object.hasOwn(views, wanted ?? '')) {
     setView(wanted);
@@ -75,22 +87,24 @@ function setView(name, push = false) {
       history.pushState(null, '', `?${encodeState({ ...state, run: false }, catalog)}`);
     } else history.pushState(null, '', `?view=${view}`);
   }
-  // The work–precision view writes its own URL (the form's scene with it) in show().
+  // The work–precision and map views write their own URL (the form's scene with it) in show().
   views[view]?.show();
 }
 
-// A scorecard cell: its scene, with the scorecard's methods, run here.
+// A scorecard cell (its scene, with the scorecard's methods) or a map cell (its /simulate
+// body, with its one method), run here; what the scene leaves out comes from its preset.
 function openScene(scene, methods) {
   const custom = isCustom(scene.system);
   const state = custom ? defaultCustomState(catalog, scene.system) : defaultState(catalog, scene.system, scene.preset);
   Object.assign(state, {
-    params: custom ? {} : { ...scene.params },
-    q: [...scene.q],
-    v: [...scene.v],
-    step: scene.step,
-    t_end: scene.t_end,
-    points: scene.points,
-    integrals: [...scene.integrals],
+    params: custom ? {} : { ...state.params, ...scene.params },
+    q: scene.q ? [...scene.q] : state.q,
+    v: scene.v ? [...scene.v] : state.v,
+    step: scene.step ?? state.step,
+    t_end: scene.t_end ?? state.t_end,
+    points: scene.points ?? state.points,
+    integrals: scene.integrals ? [...scene.integrals] : state.integrals,
+    window: defaultWindow(scene.t_end ?? state.t_end),
     smooth: true,
     methods: methods.map((m) => ({
       id: m.id,
@@ -134,8 +148,9 @@ function wire() {
   }
   window.addEventListener('popstate', () => {
     const wanted = new URLSearchParams(location.search).get('view');
-    // The work–precision view's URL carries the form's scene: restore it with the view.
-    if (wanted === 'work-precision') form.fill(decodeState(location.search, catalog).state);
+    // The work–precision and map views' URLs carry the form's scene: restore it with the view.
+    if (wanted === 'work-precision' || wanted === 'map') form.fill(decodeState(location.search, catalog).state);
+    if (wanted === 'map') views.map.restore(location.search);
     if (Object.hasOwn(views, wanted ?? '')) setView(wanted);
     else {
       form.fill(decodeState(location.search, catalog).state);

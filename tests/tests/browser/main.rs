@@ -25,7 +25,14 @@
 //!    run time, error against h) with a line per method, and each method's fitted order in
 //!    the legend and the table, LF and DLA^{0,1} near 2, DLA^0.4 near 1
 //!    (`work-precision.png`); the tab takes the Explore form's scene and methods; a run that
-//!    fails is listed as failed with its message, not drawn (`work-precision-failed.png`).
+//!    fails is listed as failed with its message, not drawn (`work-precision-failed.png`);
+//! 10. `?view=map`: the "where DLA^α stops being reversible enough" preset (21 × 11 cells on
+//!     the rotating CVT) fills the heat map, every cell drawn with a verdict or a status, the
+//!     URL holding the map (`map.png`); hovering a cell shows its tooltip with its axis values,
+//!     method and numbers (`map-tooltip.png`); clicking it runs that cell in Explore, its one
+//!     curve drawn (`map-opened.png`); a one-axis link with `run=1` draws a cell strip and a
+//!     line per method (`map-one-axis.png`); an axis path the server rejects is marked at its
+//!     field (`map-bad-axis.png`).
 //!
 //! Chromium and chromedriver are required, not optional: without them the test fails and
 //! says how to install them. `NHLAB_CHROMIUM` / `NHLAB_CHROMEDRIVER` override their paths.
@@ -33,6 +40,7 @@
 mod custom;
 mod driver;
 mod explore;
+mod maps;
 mod page;
 mod views;
 
@@ -40,6 +48,7 @@ use custom::custom_system;
 use driver::{Driver, required};
 use explore::{bad_parameter_link, cancel, composition, failed_runs, form_in_the_url, knife_edge};
 use fantoccini::Client;
+use maps::map_view;
 use nhlab_tests::TestServer;
 use std::time::Duration;
 use views::{paper_view, scorecard_view, work_precision_view};
@@ -74,5 +83,6 @@ async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), S
     custom_system(client, driver, base).await?;
     paper_view(client, driver, base).await?;
     scorecard_view(client, driver, base).await?;
-    work_precision_view(client, driver, base).await
+    work_precision_view(client, driver, base).await?;
+    map_view(client, driver, base).await
 }

@@ -1,0 +1,132 @@
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import { SweepResult, cellLines, cellState, fmt } from '../src/sweepresult.js';
+import { cellColor, decadeRange, KIND_COLORS, logError, powerOfTen, tickStep, viridis } from '../src/heatmap.js';
+
+const start = {
+  axes: [
+    { path: 'methods.alpha', values: [0.3, 0.5] },
+    { path: 'params.epsilon', values: [0, 0.25, 0.5] },
+  ],
+  methods: [{ id: 'm', alpha: 0.5, label: 'M^0.5' }, { id: 'n', label: 'N' }],
+  integrals: ['energy', 'constraint'],
+  cells: 6,
+  criterion: 'drift when late/early > 2',
+};
+
+const verdict = (kind, max) => ({ kind, max, early: max / 2, late: max / 3, ratio: 0.66 });
+
+function row(cell, method_index, status = 'ok') {
+  const values = [start.axes[0].values[Math.floor(cell / 3)], start.axes[1].values[cell % 3]];
+  return {
+    cell,
+    values,
+    method_index,
+    method: method_index === 0 ? { id: 'm', alpha: values[0], label: `M^${values[0]}` } : start.methods[1],
+    status,
+    error: status === 'failed' ? 'step 12 at t = 1.2: Newton did not converge' : status === 'invalid' ? 'v: not tangent, "quoted"' : null,
+    steps: status === 'invalid' ? 0 : 3000,
+    cpu_ms: status === 'invalid' ? null : 1.5,
+    newton_iterations: method_index === 0 && status !== 'invalid' ? 6012 : null,
+    verdicts: status === 'ok' ? { energy: verdict(cell % 2 ? 'drift' : 'bounded', 1e-3 * (cell + 1)), constraint: verdict('exact', 0) } : {},
+    simulate: { system: 's', preset: 'p', params: { epsilon: values[1] }, methods: [{ id: 'm', alpha: values[0] }], points: 1000 },
+  };
+}
+
+function filled(order) {
+  const r = new SweepResult(start);
+  for (const c of order) r.addCell({ cell: c, values: row(c, 0).values, rows: [row(c, 1, c === 4 ? 'failed' : 'ok'), row(c, 0, c === 5 ? 'invalid' : 'ok')] });
+  return r;
+}
+
+test('cells arrive in any order and fill their place', () => {
+  const r = new SweepResult(start);
+  assert.deepEqual(r.counts, [2, 3]);
+  assert.equal(r.row(4, 0), null);
+  assert.deepEqual(cellState(r.row(4, 0), 'energy'), { kind: 'pending', max: null });
+  r.addCell({ cell: 4, values: [0.5, 0.25], rows: [row(4, 1, 'failed'), row(4, 0)] });
+  r.progress({ cells_done: 2, cells: 6, elapsed_ms: 10 });
+  assert.equal(r.received, 1);
+  assert.equal(r.fraction, 2 / 6, 'the larger of cells received and counted');
+  assert.equal(r.row(4, 0).method.label, 'M^0.5');
+  assert.equal(r.row(4, 1).status, 'failed');
+  assert.deepEqual(cellState(r.row(4, 0), 'energy'), { kind: 'bounded', max: 5e-3 });
+  assert.deepEqual(cellState(r.row(4, 1), 'energy'), { kind: 'failed', max: null });
+  assert.deepEqual(cellState(r.row(4, 0), 'latitude'), { kind: 'none', max: null });
+  // The same cell twice (a retried event) is counted once.
+  r.addCell({ cell: 4, values: [0.5, 0.25], rows: [row(4, 0), row(4, 1)] });
+  assert.equal(r.received, 1);
+  assert.throws(() => r.addCell({ cell: 6, rows: [] }), /cell 6/);
+  const full = filled([5, 0, 3, 1, 4, 2]);
+  assert.equal(full.fraction, 1);
+  assert.deepEqual(cellState(full.row(5, 0), 'energy'), { kind: 'invalid', max: null });
+});
+
+test('the JSON download is the JSON answer: rows by cell, then method', () => {
+  const r = filled([5, 0, 3, 1, 4, 2]);
+  const json = r.toJSON();
+  assert.deepEqual(Object.keys(json), ['axes', 'methods', 'integrals', 'cells', 'criterion', 'rows']);
+  assert.deepEqual(json.rows.map((x) => [x.cell, x.method_index]), [0, 1, 2, 3, 4, 5].flatMap((c) => [[c, 0], [c, 1]]));
+  assert.deepEqual(json.axes, start.axes);
+  assert.equal(json.cells, 6);
+  // A partial sweep (cancelled) downloads what arrived.
+  assert.deepEqual(filled([3]).toJSON().rows.map((x) => x.cell), [3, 3]);
+});
+
+test('the CSV download has the CSV answer columns, a row per run', () => {
+  const csv = filled([2, 1, 0, 5, 4, 3]).toCSV();
+  const lines = csv.trimEnd().split('\n');
+  assert.equal(
+    lines[0],
+    'cell,methods.alpha,params.epsilon,method_index,method,status,error,steps,cpu_ms,newton_iterations,' +
+      'energy.kind,energy.max,energy.early,energy.late,energy.ratio,' +
+      'constraint.kind,constraint.max,constraint.early,constraint.late,constraint.ratio,simulate',
+  );
+  assert.equal(lines.length, 1 + 12);
+  assert.ok(lines[1].startsWith('0,0.3,0,0,M^0.3,ok,,3000,1.5,6012,bounded,0.001,0.0005,'), lines[1]);
+  // Quotes in a message and the simulate body's JSON are quoted as CSV fields.
+  const invalid = lines.find((l) => l.startsWith('5,') && l.includes('invalid'));
+  assert.match(invalid, /,"v: not tangent, ""quoted""",0,,,/);
+  assert.match(lines[1], /,"\{""system"":""s"",""preset"":""p"",.*\}"$/);
+  const failed = lines.find((l) => l.includes('failed'));
+  assert.match(failed, /^4,0\.5,0\.25,1,N,failed,step 12 at t = 1\.2: Newton did not converge,3000,1\.5,,,,,,,,,,,,/);
+});
+
+test('a tooltip names the cell, the method as run there and the numbers', () => {
+  const r = filled([0, 1, 2, 3, 4, 5]);
+  const lines = cellLines(r, 4, 0, 'energy');
+  assert.equal(lines[0], 'methods.alpha = 0.5');
+  assert.equal(lines[1], 'params.epsilon = 0.25');
+  assert.equal(lines[2], 'M^0.5: ok');
+  assert.equal(lines[3], 'energy: bounded');
+  assert.match(lines[4], /^max 5\.00e-3 · early max 2\.50e-3 · late mean 1\.67e-3 · late\/early 0\.66$/);
+  assert.equal(lines[5], '3000 steps · 1.5 ms CPU · 6012 Newton iterations');
+  assert.deepEqual(cellLines(r, 4, 1, 'energy').slice(2, 4), ['N: failed', 'step 12 at t = 1.2: Newton did not converge']);
+  assert.deepEqual(cellLines(new SweepResult(start), 2, 0, 'energy'), ['methods.alpha = 0.3', 'params.epsilon = 0.5', 'not computed yet']);
+  assert.equal(fmt(0.30000000000000004), '0.3');
+  assert.equal(fmt(1e-7), '1.00e-7');
+});
+
+test('colours: verdicts by kind, errors on a log scale over whole decades', () => {
+  assert.deepEqual(decadeRange([1e-3, 2e-9, null, 0.5]), [-9, 0]);
+  assert.deepEqual(decadeRange([1e-3]), [-3, -2]);
+  assert.deepEqual(decadeRange([0]), [-16, -15], 'an exact zero sits on the floor');
+  assert.deepEqual(decadeRange([]), [-16, 0]);
+  assert.equal(logError(0), -16);
+  assert.equal(viridis(0), '#440154');
+  assert.equal(viridis(1), '#fde725');
+  assert.equal(viridis(2), '#fde725', 'clamped');
+  assert.match(viridis(0.37), /^#[0-9a-f]{6}$/);
+  assert.equal(cellColor({ kind: 'drift', max: 1 }, 'verdict', [-3, 0]), KIND_COLORS.drift);
+  assert.equal(cellColor({ kind: 'drift', max: 1 }, 'log', [-3, 0]), viridis(1));
+  assert.equal(cellColor({ kind: 'exact', max: 1e-3 }, 'log', [-3, 0]), viridis(0));
+  // Failed, invalid and pending cells keep their own colours in both modes.
+  for (const kind of ['failed', 'invalid', 'pending', 'none']) {
+    assert.equal(cellColor({ kind, max: null }, 'log', [-3, 0]), KIND_COLORS[kind]);
+    assert.equal(cellColor({ kind, max: null }, 'verdict', [-3, 0]), KIND_COLORS[kind]);
+  }
+  assert.equal(new Set(Object.values(KIND_COLORS)).size, Object.keys(KIND_COLORS).length, 'every kind has its own colour');
+  assert.equal(tickStep(21, 600, 52), 2);
+  assert.equal(tickStep(5, 600, 52), 1);
+  assert.equal(powerOfTen(-12), '10⁻¹²');
+});
