@@ -21,22 +21,24 @@ COPY Cargo.toml Cargo.lock rustfmt.toml ./
 COPY core/Cargo.toml core/
 COPY server/Cargo.toml server/
 COPY tests/Cargo.toml tests/
-RUN mkdir -p core/src core/benches server/src tests/src \
-    && touch core/src/lib.rs server/src/lib.rs tests/src/lib.rs \
+COPY python/Cargo.toml python/
+RUN mkdir -p core/src core/benches server/src tests/src python/src \
+    && touch core/src/lib.rs server/src/lib.rs tests/src/lib.rs python/src/lib.rs \
     && echo 'fn main() {}' > core/benches/steps.rs \
     && echo 'fn main() {}' > server/src/main.rs \
     && echo 'fn main() {}' > server/build.rs \
     && cargo build --release --locked -p nhlab-server \
-    && rm -rf core/src core/benches server/src server/build.rs tests/src
+    && rm -rf core/src core/benches server/src server/build.rs tests/src python/src
 COPY core/ core/
 COPY server/ server/
 COPY tests/ tests/
+COPY python/ python/
 COPY web/ web/
 COPY --from=web /src/web/dist web/dist
 # The page is built already: server/build.rs embeds web/dist as it is instead of running npm.
 ENV NHLAB_SKIP_WEB_BUILD=1
 # The copied sources may be older than the stubs' build: touched, they are rebuilt.
-RUN find core server tests -name '*.rs' -exec touch {} + \
+RUN find core server tests python -name '*.rs' -exec touch {} + \
     && cargo build --release --locked -p nhlab-server \
     && cp target/release/nhlab /usr/local/bin/nhlab
 

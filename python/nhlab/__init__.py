@@ -1,0 +1,220 @@
+"""nhlab in Python: the long-time behaviour of nonholonomic integrators (Modin & Verdier).
+
+The functions mirror nhlab's HTTP API (docs/api.md) name for name, default for default, and
+run the same Rust code in this process: `systems()`, `simulate(...)`, `scorecard(...)`,
+`work_precision(...)` and `sweep(...)` (on a Dask cluster with `client=`). Series come back as
+numpy float64 arrays (null values of a diverging run as NaN); bad input raises `InputError`
+(a `ValueError`) with the message and the field's `path` that the HTTP API's 4xx gives. The
+interpreter's lock is released while nhlab computes: threads run in parallel.
+
+    import nhlab
+    r = nhlab.simulate("knife_edge", preset="paper")
+    for run in r.runs:
+        print(run.label, run.series["energy"].verdict["kind"], run.series["energy"].max.max())
+"""
+
+import json as _json
+
+from . import _nhlab
+
+__version__ = _nhlab.__version__
+__all__ = [
+    "InputError", "ServerBusy", "Simulation", "Run", "Series", "SweepRows",
+    "systems", "simulate", "scorecard", "work_precision", "sweep",
+]
+
+
+class InputError(ValueError):
+    """A request nhlab refuses: `message` says why, `path` names the field (as the HTTP API's
+    400 and 422 answers do), `status` is the HTTP status it would have had."""
+
+    def __init__(self, message, path=None, status=422):
+        super().__init__(f"{path}: {message}" if path else message)
+        self.message, self.path, self.status = message, path, status
+
+
+class ServerBusy(RuntimeError):
+    """Every simulation slot is taken (the HTTP API's 503): retry in a moment."""
+
+
+def _call(method, path, body=None, accept=None):
+    text = None if body is None else _json.dumps(body, allow_nan=False)
+    status, kind, answer = _nhlab.request(method, path, text, accept)
+    if status == 200:
+        return answer
+    try:
+        error = _json.loads(answer)
+    except ValueError:
+        error = {"error": answer, "path": None}
+    if 400 <= status < 500:
+        raise InputError(error.get("error"), error.get("path"), status)
+    if status == 503:
+        raise ServerBusy(error.get("error"))
+    raise RuntimeError(f"nhlab: {status}: {error.get('error')}")
+
+
+def _floats(xs):
+    return None if xs is None else [float(x) for x in xs]
+
+
+def _scene(system, preset, params, q, v, step, t_end, integrals):
+    """A scene as the HTTP API takes it, leaving out what is not given."""
+    body = {"system": system, "preset": preset,
+            "params": None if params is None else {k: float(x) for k, x in params.items()},
+            "q": _floats(q), "v": _floats(v),
+            "step": None if step is None else float(step),
+            "t_end": None if t_end is None else float(t_end),
+            "integrals": None if integrals is None else list(integrals)}
+    return {k: x for k, x in body.items() if x is not None}
+
+
+def systems():
+    """`GET /systems`: systems (parameters, integrals, presets, formula forms), methods,
+    compositions, the paper's scenes and the limits, as a dict."""
+    return _json.loads(_call("GET", "/systems"))
+
+
+class Series:
+    """One integral's error |I(t) − I(0)|, downsampled into buckets: `t` (the time of each
+    bucket's last sample), `mean` and `max` over it, numpy float64 arrays; `verdict` is
+    exact / bounded / drift with its numbers (a dict, None for an empty series)."""
+
+    def __init__(self, data):
+        import numpy as np
+
+        nan = float("nan")
+        col = lambda k: np.array([nan if x is None else x for x in data.get(k, [])], dtype=np.float64)
+        self.t, self.mean, self.max = col("t"), col("mean"), col("max")
+        self.verdict = data.get("verdict")
+
+    def __repr__(self):
+        kind = (self.verdict or {}).get("kind")
+        return f"Series({len(self.t)} buckets, {kind})"
+
+
+class Run:
+    """One method's run: `method` (its id and parameters, a dict), `label`, `status` ("ok" or
+    "failed"), `error`, `steps`, `elapsed_ms`, `cpu_ms`, and `series` by integral id."""
+
+    def __init__(self, data):
+        self.method = data["method"]
+        self.label = data["method"]["label"]
+        self.status, self.error, self.steps = data["status"], data["error"], data["steps"]
+        self.elapsed_ms, self.cpu_ms = data["elapsed_ms"], data["cpu_ms"]
+        self.series = {k: Series(s) for k, s in data["series"].items()}
+
+    def __repr__(self):
+        return f"Run({self.label}, {self.status}, {self.steps} steps)"
+
+
+class Simulation:
+    """`simulate`'s answer: the resolved `scene` (a dict: every value after presets and
+    defaults; send it back to reproduce the runs) and one `Run` per method, in order."""
+
+    def __init__(self, data):
+        self.scene = data["scene"]
+        self.runs = [Run(r) for r in data["runs"]]
+
+    def run(self, label):
+        """The run of the method labelled `label` (e.g. "LF", "DLA^0.4")."""
+        for r in self.runs:
+            if r.label == label:
+                return r
+        raise KeyError(f"no run labelled {label!r}; labels: {[r.label for r in self.runs]}")
+
+    def __repr__(self):
+        return f"Simulation({self.scene.get('system')}, runs={[r.label for r in self.runs]})"
+
+
+def simulate(system, preset=None, params=None, q=None, v=None, step=None, t_end=None,
+             methods=None, integrals=None, points=None):
+    """`POST /simulate`: runs `methods` (default: the paper's five; each an id such as
+    "leapfrog" or a dict {"id": "dla", "alpha": 0.4, "composition": "p4s3"}) on a scene of
+    `system` (an id, or a system given as formulas, a dict) and measures each integral's
+    error. `preset` fills params, q, v, step and t_end; the others override it; `points` is
+    the buckets per series (default 1000). Returns a `Simulation`."""
+    body = _scene(system, preset, params, q, v, step, t_end, integrals)
+    if methods is not None:
+        body["methods"] = list(methods)
+    if points is not None:
+        body["points"] = int(points)
+    return Simulation(_json.loads(_call("POST", "/simulate", body)))
+
+
+def scorecard(methods=None, scenes=None, points=None):
+    """`POST /scorecard`: the verdict of every method (default: all) on every scene (default:
+    the paper's six; each a dict like a `simulate` scene) per integral, and each method's
+    measured reversibility and fibration preservation. Returns the answer as a dict."""
+    body = {}
+    if methods is not None:
+        body["methods"] = list(methods)
+    if scenes is not None:
+        body["scenes"] = list(scenes)
+    if points is not None:
+        body["points"] = int(points)
+    return _json.loads(_call("POST", "/scorecard", body))
+
+
+def work_precision(system, preset=None, params=None, q=None, v=None, step=None, t_end=None,
+                   methods=None, integrals=None, steps=None, levels=None, repeats=None):
+    """`POST /work-precision`: each method's final error against a Dop853 reference and its
+    run time, at step sizes `steps` (a list) or h, h/2, … (`levels`, default 4), the fastest
+    of `repeats` (default 3). Returns the answer as a dict (rows per method × step)."""
+    body = _scene(system, preset, params, q, v, step, t_end, integrals)
+    if methods is not None:
+        body["methods"] = list(methods)
+    if steps is not None:
+        body["steps"] = _floats(steps)
+    if levels is not None:
+        body["levels"] = int(levels)
+    if repeats is not None:
+        body["repeats"] = int(repeats)
+    return _json.loads(_call("POST", "/work-precision", body))
+
+
+class SweepRows(list):
+    """`sweep`'s rows (a list of dicts, by cell then method, as `POST /sweep` gives them) and
+    `head`: the axes with their values, the methods, the integrals, the cell count."""
+
+    def __init__(self, rows, head):
+        super().__init__(rows)
+        self.head = head
+
+    def to_pandas(self):
+        """The rows as a tidy pandas DataFrame: a column per axis path, the method's label,
+        status, error, steps, cpu_ms, newton_iterations, and `<integral>.kind`, `.max`,
+        `.early`, `.late`, `.ratio` per integral (pandas must be installed)."""
+        import pandas as pd
+
+        paths = [a["path"] for a in self.head["axes"]]
+        records = []
+        for r in self:
+            rec = {"cell": r["cell"], **dict(zip(paths, r["values"])),
+                   "method_index": r["method_index"], "method": r["method"]["label"]}
+            for k in ("status", "error", "steps", "cpu_ms", "newton_iterations"):
+                rec[k] = r[k]
+            for i in self.head["integrals"]:
+                for f in ("kind", "max", "early", "late", "ratio"):
+                    rec[f"{i}.{f}"] = r["verdicts"].get(i, {}).get(f)
+            records.append(rec)
+        return pd.DataFrame.from_records(records)
+
+
+def sweep(spec=None, *, client=None, shards=None, **scene):
+    """`POST /sweep`: every method on every cell of 1 to 3 `axes` (each {"path":
+    "params.epsilon", "values": [...]} or "linspace"/"logspace": [start, stop, n]), a row per
+    cell × method with its status, cost and verdicts. `spec` is the request as a dict; or give
+    its fields as keywords (`sweep(system="knife_edge", axes=[...])`).
+
+    With `client=` (a `dask.distributed.Client`), the sweep runs as `shards` Dask tasks
+    (default: 4 per worker), each computing the cells c with c mod shards = i; the rows are
+    the same as without. A worker lost mid-sweep has its tasks retried elsewhere."""
+    spec = dict(spec or {}, **scene)
+    if client is None:
+        answer = _json.loads(_call("POST", "/sweep", spec))
+        rows = answer.pop("rows")
+        return SweepRows(rows, answer)
+    from . import _dask
+
+    head, rows = _dask.sweep(spec, client, shards)
+    return SweepRows(rows, head)

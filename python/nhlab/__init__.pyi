@@ -1,0 +1,84 @@
+"""Type stubs of nhlab (see the module's docstring)."""
+
+from typing import Any, Iterable, Mapping, Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+Method = str | Mapping[str, Any]
+System = str | Mapping[str, Any]
+
+class InputError(ValueError):
+    message: str
+    path: str | None
+    status: int
+    def __init__(self, message: str, path: str | None = ..., status: int = ...) -> None: ...
+
+class ServerBusy(RuntimeError): ...
+
+class Series:
+    t: npt.NDArray[np.float64]
+    mean: npt.NDArray[np.float64]
+    max: npt.NDArray[np.float64]
+    verdict: dict[str, Any] | None
+
+class Run:
+    method: dict[str, Any]
+    label: str
+    status: str
+    error: str | None
+    steps: int
+    elapsed_ms: float
+    cpu_ms: float | None
+    series: dict[str, Series]
+
+class Simulation:
+    scene: dict[str, Any]
+    runs: list[Run]
+    def run(self, label: str) -> Run: ...
+
+class SweepRows(list[dict[str, Any]]):
+    head: dict[str, Any]
+    def to_pandas(self) -> Any: ...
+
+def systems() -> dict[str, Any]: ...
+def simulate(
+    system: System,
+    preset: str | None = ...,
+    params: Mapping[str, float] | None = ...,
+    q: Sequence[float] | npt.ArrayLike | None = ...,
+    v: Sequence[float] | npt.ArrayLike | None = ...,
+    step: float | None = ...,
+    t_end: float | None = ...,
+    methods: Iterable[Method] | None = ...,
+    integrals: Iterable[str] | None = ...,
+    points: int | None = ...,
+) -> Simulation: ...
+def scorecard(
+    methods: Iterable[Method] | None = ...,
+    scenes: Iterable[Mapping[str, Any]] | None = ...,
+    points: int | None = ...,
+) -> dict[str, Any]: ...
+def work_precision(
+    system: System,
+    preset: str | None = ...,
+    params: Mapping[str, float] | None = ...,
+    q: Sequence[float] | npt.ArrayLike | None = ...,
+    v: Sequence[float] | npt.ArrayLike | None = ...,
+    step: float | None = ...,
+    t_end: float | None = ...,
+    methods: Iterable[Method] | None = ...,
+    integrals: Iterable[str] | None = ...,
+    steps: Sequence[float] | None = ...,
+    levels: int | None = ...,
+    repeats: int | None = ...,
+) -> dict[str, Any]: ...
+def sweep(
+    spec: Mapping[str, Any] | None = ...,
+    *,
+    client: Any = ...,
+    shards: int | None = ...,
+    **scene: Any,
+) -> SweepRows: ...

@@ -1,0 +1,147 @@
+//! `nhlab._nhlab`: the Rust half of the Python package. It serves nhlab's HTTP API inside the
+//! Python process, without a socket: a request is handed to the same router `nhlab` serves
+//! ([`nhlab_server::app`]) and its answer returned as (status, content type, body), so the
+//! Python functions give exactly the numbers, the errors and the paths of the HTTP API. The
+//! interpreter's lock is released while a request computes, so Python threads run in parallel.
+//!
+//! For sweeps on a Dask cluster, [`shard`] computes one shard's rows on the calling thread's
+//! process, as `nhlab sweep --shard I/N` does.
+
+use axum::body::Body;
+use axum::http::{Method, Request, header};
+use nhlab_server::sweep::shards;
+use nhlab_server::{AppState, Config, app};
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+use std::sync::OnceLock;
+use tower::ServiceExt;
+
+/// The answer's size cap: what the server's own limits let through, with room.
+const MAX_ANSWER: usize = 1 << 30;
+
+/// The runtime and the app, made on first use (importing the module costs nothing).
+fn served() -> &'static (tokio::runtime::Runtime, axum::Router) {
+    static SERVED: OnceLock<(tokio::runtime::Runtime, axum::Router)> = OnceLock::new();
+    SERVED.get_or_init(|| {
+        // In-process, the caller's threads are the clients: enough simulation slots for a
+        // thread pool's worth of concurrent calls; the other limits are the server's.
+        let config = Config { max_simulations: 64, ..Config::default() };
+        let blocking = config.max_simulations * (config.max_methods + 2) + 4;
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(2)
+            .max_blocking_threads(blocking)
+            .enable_all()
+            .build()
+            .expect("a tokio runtime starts");
+        let router = app(AppState::new(config));
+        (runtime, router)
+    })
+}
+
+/// `request(method, path, body=None, accept=None) -> (status, content_type, body)`: one
+/// request to the API, answered in-process.
+#[pyfunction]
+#[pyo3(signature = (method, path, body=None, accept=None))]
+fn request(
+    py: Python<'_>,
+    method: &str,
+    path: &str,
+    body: Option<String>,
+    accept: Option<String>,
+) -> PyResult<(u16, String, String)> {
+    let method = Method::from_bytes(method.as_bytes())
+        .map_err(|e| PyRuntimeError::new_err(format!("method {method}: {e}")))?;
+    let mut builder = Request::builder().method(method).uri(path).header(header::HOST, "localhost");
+    if body.is_some() {
+        builder = builder.header(header::CONTENT_TYPE, "application/json");
+    }
+    if let Some(accept) = &accept {
+        builder = builder.header(header::ACCEPT, accept.as_str());
+    }
+    let request = builder
+        .body(Body::from(body.unwrap_or_default()))
+        .map_err(|e| PyRuntimeError::new_err(format!("request: {e}")))?;
+    py.detach(|| {
+        let (runtime, router) = served();
+        runtime.block_on(async {
+            let Ok(response) = router.clone().oneshot(request).await;
+            let status = response.status().as_u16();
+            let kind = response
+                .headers()
+                .get(header::CONTENT_TYPE)
+                .and_then(|v| v.to_str().ok())
+                .unwrap_or("")
+                .to_owned();
+            let bytes = axum::body::to_bytes(response.into_body(), MAX_ANSWER)
+                .await
+                .map_err(|e| PyRuntimeError::new_err(format!("reading the answer: {e}")))?;
+            let text = String::from_utf8(bytes.to_vec())
+                .map_err(|e| PyRuntimeError::new_err(format!("the answer is not UTF-8: {e}")))?;
+            Ok((status, kind, text))
+        })
+    })
+}
+
+/// `shard(spec, index, count, threads) -> (head, rows)`: the rows (JSON text, one per row, by
+/// cell then method) of cells `c` with `c mod count = index` of the sweep `spec` (a
+/// `POST /sweep` body as JSON text), computed on `threads` threads, and the sweep's head.
+/// A bad spec raises `ValueError` with the field and why.
+#[pyfunction]
+fn shard(
+    py: Python<'_>,
+    spec: &str,
+    index: usize,
+    count: usize,
+    threads: usize,
+) -> PyResult<(String, Vec<String>)> {
+    if count == 0 || index >= count {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "a shard is index/count with 0 ≤ index < count, got {index}/{count}"
+        )));
+    }
+    py.detach(|| {
+        let (_, sweep) = shards::spec(spec, "spec").map_err(py_error)?;
+        let head = serde_json::to_string(&sweep.head)
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        let cells: Vec<usize> = (0..sweep.cells.len()).filter(|c| c % count == index).collect();
+        let mut rows: Vec<(usize, Vec<String>)> = Vec::with_capacity(cells.len());
+        shards::compute(&sweep, &cells, threads, |cell| {
+            let lines = cell.rows.iter().map(|r| serde_json::to_string(r).unwrap_or_default());
+            rows.push((cell.cell, lines.collect()));
+            Ok(())
+        })
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        rows.sort_by_key(|(c, _)| *c);
+        Ok((head, rows.into_iter().flat_map(|(_, r)| r).collect()))
+    })
+}
+
+/// `check(spec) -> head`: the head of the sweep `spec` (its axes with their values, methods,
+/// integrals, cells) once checked, no cell computed; a bad spec raises `ValueError`.
+#[pyfunction]
+fn check(py: Python<'_>, spec: &str) -> PyResult<String> {
+    py.detach(|| {
+        let (_, sweep) = shards::spec(spec, "spec").map_err(py_error)?;
+        serde_json::to_string(&sweep.head).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+    })
+}
+
+/// A spec's error as `ValueError(message, path)`; anything else as `RuntimeError`.
+fn py_error(e: shards::ShardError) -> PyErr {
+    match e {
+        shards::ShardError::Spec { error, .. } => {
+            pyo3::exceptions::PyValueError::new_err((error.message, error.path))
+        }
+        other => PyRuntimeError::new_err(other.to_string()),
+    }
+}
+
+/// The module.
+#[pymodule]
+fn _nhlab(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(request, m)?)?;
+    m.add_function(wrap_pyfunction!(shard, m)?)?;
+    m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,163 @@
+"""The Python functions against the HTTP API's answers to the same requests: equal numbers
+(timing aside), equal errors and paths; the interpreter's lock released while nhlab computes;
+a fast import."""
+
+import math
+import os
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import nhlab
+
+TIMING = {"elapsed_ms", "cpu_ms"}
+
+
+def untimed(x):
+    """`x` without its timing fields, wherever they are."""
+    if isinstance(x, dict):
+        return {k: untimed(v) for k, v in x.items() if k not in TIMING}
+    if isinstance(x, list):
+        return [untimed(v) for v in x]
+    return x
+
+
+def column(values):
+    return np.array([math.nan if v is None else v for v in values], dtype=np.float64)
+
+
+def test_systems_equal_the_http_answer(http):
+    status, answer = http.call("GET", "/systems")
+    assert status == 200
+    ours = nhlab.systems()
+    # The limits are the in-process server's own (more simulations at once); the rest equal.
+    ours.pop("limits"), answer.pop("limits")
+    assert ours == answer
+
+
+def test_simulate_gives_the_http_numbers_as_numpy_arrays(http):
+    kwargs = dict(system="cvt_pendulum", preset="rotating-perturbed", t_end=300, points=200,
+                  methods=["leapfrog", {"id": "dla", "alpha": 0.4}, {"id": "dla01", "composition": "p4s3"}])
+    status, answer = http.call("POST", "/simulate", kwargs)
+    assert status == 200
+    r = nhlab.simulate(**kwargs)
+    assert r.scene == answer["scene"]
+    assert [run.label for run in r.runs] == ["LF", "DLA^0.4", "DLA^{0,1}∘p4s3"]
+    for run, theirs in zip(r.runs, answer["runs"]):
+        assert (run.method, run.status, run.error, run.steps) == (
+            theirs["method"], theirs["status"], theirs["error"], theirs["steps"])
+        assert run.cpu_ms > 0
+        assert set(run.series) == set(theirs["series"])
+        for integral, s in run.series.items():
+            t = theirs["series"][integral]
+            for name in ("t", "mean", "max"):
+                a = getattr(s, name)
+                assert a.dtype == np.float64
+                np.testing.assert_array_equal(a, column(t[name]))
+            assert s.verdict == t["verdict"]
+    assert r.run("LF").series["energy"].verdict["kind"] == "bounded"
+
+
+def test_a_diverging_run_has_nan_where_http_has_null(http):
+    kwargs = dict(system="knife_edge", preset="paper", step=3.0, t_end=3000, methods=["rk4"], points=50)
+    _, answer = http.call("POST", "/simulate", kwargs)
+    r = nhlab.simulate(**kwargs)
+    assert r.runs[0].status == answer["runs"][0]["status"]
+    for integral, s in r.runs[0].series.items():
+        np.testing.assert_array_equal(s.max, column(answer["runs"][0]["series"][integral]["max"]))
+
+
+def test_scorecard_and_work_precision_equal_the_http_answers(http):
+    body = {"methods": ["leapfrog", "dd"], "scenes": [{"system": "knife_edge", "preset": "paper"}],
+            "points": 100}
+    status, answer = http.call("POST", "/scorecard", body)
+    assert status == 200
+    assert untimed(nhlab.scorecard(**body)) == untimed(answer)
+    body = dict(system="knife_edge", preset="paper", t_end=10, methods=["leapfrog", "dla01"], levels=3, repeats=1)
+    status, answer = http.call("POST", "/work-precision", body)
+    assert status == 200
+    ours = nhlab.work_precision(**body)
+    ours["reference"].pop("cached"), answer["reference"].pop("cached")
+    assert untimed(ours) == untimed(answer)
+
+
+SWEEP = {"system": "cvt_pendulum", "preset": "rotating-perturbed", "t_end": 60, "points": 100,
+         "methods": [{"id": "dla", "alpha": 0.5}, "leapfrog"],
+         "axes": [{"path": "methods.alpha", "linspace": [0.3, 0.7, 3]},
+                  {"path": "params.epsilon", "values": [0, 0.5]}]}
+
+
+def test_sweep_equals_post_sweep_and_goes_to_pandas(http):
+    status, answer = http.call("POST", "/sweep", SWEEP)
+    assert status == 200
+    rows = nhlab.sweep(SWEEP)
+    assert untimed(list(rows)) == untimed(answer["rows"])
+    assert rows.head == {k: v for k, v in answer.items() if k != "rows"}
+    assert untimed(list(nhlab.sweep(**SWEEP))) == untimed(answer["rows"])
+    pd = pytest.importorskip("pandas")
+    frame = rows.to_pandas()
+    assert isinstance(frame, pd.DataFrame) and len(frame) == 12
+    assert list(frame.columns[:5]) == ["cell", "methods.alpha", "params.epsilon", "method_index", "method"]
+    assert frame["energy.kind"].tolist() == [r["verdicts"]["energy"]["kind"] for r in answer["rows"]]
+
+
+@pytest.mark.parametrize("call, path, body", [
+    (lambda: nhlab.simulate("nope"), "/simulate", {"system": "nope"}),
+    (lambda: nhlab.simulate("knife_edge", methods=[{"id": "dla", "alfa": 0.4}]), "/simulate",
+     {"system": "knife_edge", "methods": [{"id": "dla", "alfa": 0.4}]}),
+    (lambda: nhlab.simulate("knife_edge", q=[0, 0]), "/simulate", {"system": "knife_edge", "q": [0.0, 0.0]}),
+    (lambda: nhlab.simulate("knife_edge", points="many"), None, None),
+    (lambda: nhlab.scorecard(scenes=[{"system": "knife_edge", "step": -1}]), "/scorecard",
+     {"scenes": [{"system": "knife_edge", "step": -1}]}),
+    (lambda: nhlab.work_precision("knife_edge", levels=99), "/work-precision", {"system": "knife_edge", "levels": 99}),
+    (lambda: nhlab.sweep(system="knife_edge", axes=[{"path": "speed", "values": [1]}]), "/sweep",
+     {"system": "knife_edge", "axes": [{"path": "speed", "values": [1]}]}),
+    (lambda: nhlab.sweep(system="knife_edge", axes=[{"path": "step", "values": ["a"]}]), "/sweep",
+     {"system": "knife_edge", "axes": [{"path": "step", "values": ["a"]}]}),
+])
+def test_bad_input_raises_value_error_with_the_http_message_and_path(http, call, path, body):
+    with pytest.raises(ValueError) as raised:
+        call()
+    if path is None:
+        return  # refused by Python itself (int("many"))
+    status, answer = http.call("POST", path, body)
+    assert 400 <= status < 500
+    e = raised.value
+    assert isinstance(e, nhlab.InputError)
+    assert (e.status, e.message, e.path) == (status, answer["error"], answer["path"])
+    assert str(e) == f"{answer['path']}: {answer['error']}"
+
+
+def test_threads_run_in_parallel():
+    """The lock is released while nhlab computes: two threads on two cores take about the
+    time of one, where holding it would take two."""
+    if len(os.sched_getaffinity(0)) < 2:
+        pytest.skip("needs two cores")
+    run = lambda: nhlab.simulate("cvt_pendulum", preset="rotating-perturbed", t_end=400000,
+                                 methods=["leapfrog"], points=10)
+    run()  # warm: the runtime and the latitude axis
+    best_one, best_two = math.inf, math.inf
+    for _ in range(3):
+        start = time.perf_counter()
+        run()
+        best_one = min(best_one, time.perf_counter() - start)
+        threads = [threading.Thread(target=run) for _ in range(2)]
+        start = time.perf_counter()
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        best_two = min(best_two, time.perf_counter() - start)
+    # Two runs in parallel: well under the 2× of running them one after the other.
+    assert best_two < 1.6 * best_one, (best_one, best_two)
+
+
+def test_import_is_fast():
+    code = "import time; t = time.perf_counter(); import nhlab; print(time.perf_counter() - t)"
+    times = [float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                                  check=True).stdout) for _ in range(3)]
+    assert min(times) < 0.5, times

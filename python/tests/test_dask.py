@@ -1,0 +1,60 @@
+"""Sweeps on a Dask cluster of two worker processes: the rows equal `POST /sweep`'s, also
+when a worker is killed while the sweep runs."""
+
+import os
+import signal
+import threading
+import time
+
+import pytest
+
+import nhlab
+
+distributed = pytest.importorskip("distributed")
+
+SPEC = {"system": "cvt_pendulum", "preset": "rotating-perturbed", "t_end": 150, "points": 100,
+        "methods": [{"id": "dla", "alpha": 0.5}, "leapfrog", "dd"],
+        "axes": [{"path": "methods.alpha", "linspace": [0.3, 0.7, 6]},
+                 {"path": "params.epsilon", "linspace": [0, 0.5, 4]}]}
+
+
+def untimed(rows):
+    return [{k: v for k, v in r.items() if k != "cpu_ms"} for r in rows]
+
+
+@pytest.fixture(scope="module")
+def client():
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                       dashboard_address=None)
+    with distributed.Client(cluster) as c:
+        yield c
+    cluster.close()
+
+
+def test_a_dask_sweep_equals_post_sweep(http, client):
+    status, answer = http.call("POST", "/sweep", SPEC)
+    assert status == 200
+    rows = nhlab.sweep(SPEC, client=client)
+    assert untimed(rows) == untimed(answer["rows"])
+    assert rows.head == {k: v for k, v in answer.items() if k != "rows"}
+
+
+def test_a_worker_killed_mid_sweep_changes_nothing(http, client):
+    spec = dict(SPEC, t_end=6000)  # a few seconds of work for two workers
+    _, answer = http.call("POST", "/sweep", spec)
+    victim = sorted(client.run(os.getpid).values())[0]
+    killer = threading.Timer(1.0, os.kill, (victim, signal.SIGKILL))
+    start = time.perf_counter()
+    killer.start()
+    rows = nhlab.sweep(spec, client=client, shards=24)
+    took = time.perf_counter() - start
+    killer.join()
+    assert took > 1.5, f"the sweep ended ({took:.2f} s) before the worker was killed"
+    assert victim not in client.run(os.getpid).values(), "the worker was killed (and replaced)"
+    assert untimed(rows) == untimed(answer["rows"])
+
+
+def test_a_bad_spec_raises_at_once(client):
+    with pytest.raises(nhlab.InputError) as e:
+        nhlab.sweep(dict(SPEC, axes=[{"path": "params.nope", "values": [1]}]), client=client)
+    assert e.value.path == "axes[0].path"
