@@ -32,6 +32,10 @@ class InputError(ValueError):
         super().__init__(f"{path}: {message}" if path else message)
         self.message, self.path, self.status = message, path, status
 
+    def __reduce__(self):
+        # Raised in a Dask worker or a process pool, it arrives with its fields.
+        return (InputError, (self.message, self.path, self.status))
+
 
 class ServerBusy(RuntimeError):
     """Every simulation slot is taken (the HTTP API's 503): retry in a moment."""

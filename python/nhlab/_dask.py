@@ -11,14 +11,25 @@ from . import InputError, _nhlab
 
 def _shard(text, index, count):
     """One shard's (head, rows): run on a worker."""
-    import os
-
     try:
-        head, rows = _nhlab.shard(text, index, count, max(1, len(os.sched_getaffinity(0))))
+        head, rows = _nhlab.shard(text, index, count, _threads())
     except ValueError as e:
         message, path = e.args if len(e.args) == 2 else (str(e), None)
         raise InputError(message, path) from None
     return head, rows
+
+
+def _threads():
+    """The cores of this worker's process over the tasks it runs at once."""
+    import os
+
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    try:
+        from distributed import get_worker
+
+        return max(1, (cores or 1) // get_worker().state.nthreads)
+    except (ImportError, ValueError, AttributeError):
+        return max(1, cores or 1)
 
 
 def sweep(spec, client, shards=None):

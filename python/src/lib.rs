@@ -13,29 +13,43 @@ use nhlab_server::sweep::shards;
 use nhlab_server::{AppState, Config, app};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
-use std::sync::OnceLock;
+use std::sync::{Arc, Mutex};
 use tower::ServiceExt;
 
 /// The answer's size cap: what the server's own limits let through, with room.
 const MAX_ANSWER: usize = 1 << 30;
 
-/// The runtime and the app, made on first use (importing the module costs nothing).
-fn served() -> &'static (tokio::runtime::Runtime, axum::Router) {
-    static SERVED: OnceLock<(tokio::runtime::Runtime, axum::Router)> = OnceLock::new();
-    SERVED.get_or_init(|| {
-        // In-process, the caller's threads are the clients: enough simulation slots for a
-        // thread pool's worth of concurrent calls; the other limits are the server's.
-        let config = Config { max_simulations: 64, ..Config::default() };
-        let blocking = config.max_simulations * (config.max_methods + 2) + 4;
-        let runtime = tokio::runtime::Builder::new_multi_thread()
-            .worker_threads(2)
-            .max_blocking_threads(blocking)
-            .enable_all()
-            .build()
-            .expect("a tokio runtime starts");
-        let router = app(AppState::new(config));
-        (runtime, router)
-    })
+/// The runtime and the router of one process.
+type Served = Arc<(tokio::runtime::Runtime, axum::Router)>;
+
+/// The runtime and the app, made on first use (importing the module costs nothing), and made
+/// again in a child process: a fork keeps the runtime but not its threads.
+fn served() -> Served {
+    static SERVED: Mutex<Option<(u32, Served)>> = Mutex::new(None);
+    let mut served = SERVED.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let pid = std::process::id();
+    if let Some((owner, s)) = served.as_ref()
+        && *owner == pid
+    {
+        return s.clone();
+    }
+    // In-process, the caller's threads are the clients: enough simulation slots for a thread
+    // pool's worth of concurrent calls; the other limits are the server's.
+    let config = Config { max_simulations: 64, ..Config::default() };
+    let cores = std::thread::available_parallelism().map_or(2, std::num::NonZeroUsize::get);
+    let blocking = config.max_simulations * (config.max_methods.max(cores) + 2) + 4;
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .max_blocking_threads(blocking)
+        .enable_all()
+        .build()
+        .expect("a tokio runtime starts");
+    let fresh = Arc::new((runtime, app(AppState::new(config))));
+    // The parent's runtime, inherited without its threads, cannot be shut down here: leaked.
+    if let Some((_, inherited)) = served.replace((pid, fresh.clone())) {
+        std::mem::forget(inherited);
+    }
+    fresh
 }
 
 /// `request(method, path, body=None, accept=None) -> (status, content_type, body)`: one
@@ -62,7 +76,8 @@ fn request(
         .body(Body::from(body.unwrap_or_default()))
         .map_err(|e| PyRuntimeError::new_err(format!("request: {e}")))?;
     py.detach(|| {
-        let (runtime, router) = served();
+        let served = served();
+        let (runtime, router) = &*served;
         runtime.block_on(async {
             let Ok(response) = router.clone().oneshot(request).await;
             let status = response.status().as_u16();
@@ -106,8 +121,9 @@ fn shard(
         let cells: Vec<usize> = (0..sweep.cells.len()).filter(|c| c % count == index).collect();
         let mut rows: Vec<(usize, Vec<String>)> = Vec::with_capacity(cells.len());
         shards::compute(&sweep, &cells, threads, |cell| {
-            let lines = cell.rows.iter().map(|r| serde_json::to_string(r).unwrap_or_default());
-            rows.push((cell.cell, lines.collect()));
+            let lines = cell.rows.iter().map(serde_json::to_string).collect::<Result<_, _>>();
+            let lines = lines.map_err(|e| shards::ShardError::Incomplete(e.to_string()))?;
+            rows.push((cell.cell, lines));
             Ok(())
         })
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;

@@ -40,16 +40,24 @@ def test_a_dask_sweep_equals_post_sweep(http, client):
 
 
 def test_a_worker_killed_mid_sweep_changes_nothing(http, client):
-    spec = dict(SPEC, t_end=6000)  # a few seconds of work for two workers
+    spec = dict(SPEC, t_end=6000)  # seconds of work for two workers
     _, answer = http.call("POST", "/sweep", spec)
     victim = sorted(client.run(os.getpid).values())[0]
-    killer = threading.Timer(1.0, os.kill, (victim, signal.SIGKILL))
-    start = time.perf_counter()
+    killed = []
+
+    def kill_once_computing():
+        # As soon as the scheduler has handed out tasks: mid-sweep on any machine.
+        while not any(client.processing().values()):
+            time.sleep(0.01)
+        os.kill(victim, signal.SIGKILL)
+        killed.append(time.perf_counter())
+
+    killer = threading.Thread(target=kill_once_computing, daemon=True)
     killer.start()
     rows = nhlab.sweep(spec, client=client, shards=24)
-    took = time.perf_counter() - start
-    killer.join()
-    assert took > 1.5, f"the sweep ended ({took:.2f} s) before the worker was killed"
+    ended = time.perf_counter()
+    killer.join(timeout=10)
+    assert killed and killed[0] < ended, "the worker was killed while the sweep ran"
     assert victim not in client.run(os.getpid).values(), "the worker was killed (and replaced)"
     assert untimed(rows) == untimed(answer["rows"])
 

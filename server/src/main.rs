@@ -122,7 +122,7 @@ enum Command {
 #[derive(Debug, clap::Args)]
 struct SweepArgs {
     /// The sweep: a JSON file with a POST /sweep body (`-`: standard input).
-    #[arg(required_unless_present = "merge")]
+    #[arg(required_unless_present = "merge", conflicts_with = "merge")]
     spec: Option<PathBuf>,
     /// Compute only shard I of N (0 ≤ I < N).
     #[arg(long, value_name = "I/N", conflicts_with = "merge")]
@@ -243,9 +243,11 @@ fn main() -> std::process::ExitCode {
     // The blocking pool follows the slots: every run of every admitted simulation, its
     // property measurements and the checks at once, and no more threads than that whatever
     // arrives (tokio's default is 512).
+    // A sweep takes one thread per core instead of one per method.
+    let cores = std::thread::available_parallelism().map_or(2, std::num::NonZeroUsize::get);
     let blocking = config
         .max_simulations
-        .saturating_mul(config.max_methods.saturating_add(2))
+        .saturating_mul(config.max_methods.max(cores).saturating_add(2))
         .saturating_add(4);
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()

@@ -181,6 +181,29 @@ async fn a_cell_made_invalid_by_an_axis_says_so_in_its_rows() {
 }
 
 #[tokio::test]
+async fn a_system_given_as_formulas_sweeps_its_parameters() {
+    let server = TestServer::start().await;
+    let system = json!({"name": "bowl", "passenger": ["x", "y"], "driver": "theta",
+        "parameters": {"k": 1.0}, "passenger_potential": "k*(x^2 + y^2)/2",
+        "driver_potential": "1 - cos(theta)", "constraints": [["1", "sin(theta)"]]});
+    let body = json!({"system": system, "q": [1, 1, 0], "v": [0, 0, 2], "t_end": 30,
+        "methods": ["leapfrog", "dd"], "axes": [{"path": "params.k", "values": [0.5, 1, 2]}]});
+    let (status, answer) = server.post_json("/sweep", &body).await;
+    assert_eq!(status, 200, "{}", answer["error"]);
+    let rows = answer["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 6);
+    for row in rows {
+        assert_eq!(row["status"], "ok", "{}", row["error"]);
+        // The echo holds the system with this cell's k, and reproduces the row.
+        let k = row["values"][0].clone();
+        assert_eq!(row["simulate"]["system"]["parameters"]["k"], k);
+        let (status, run) = server.post_json("/simulate", &row["simulate"]).await;
+        assert_eq!(status, 200, "{}", run["error"]);
+        assert_eq!(run["runs"][0]["series"]["energy"]["verdict"], row["verdicts"]["energy"]);
+    }
+}
+
+#[tokio::test]
 async fn the_requests_errors_name_their_field() {
     let server = TestServer::start().await;
     let cases = [

@@ -116,11 +116,12 @@ pub struct SceneRequest {
     pub t_end: Option<f64>,
 }
 
-/// Systems given as formulas, compiled, by their formulas and parameter values
-/// ([`Scene::resolve_cached`]).
+/// Systems given as formulas, compiled, by their parameter values, for one set of formulas
+/// at a time ([`Scene::resolve_cached`]).
 #[derive(Debug, Default)]
 pub struct CompiledSystems {
-    systems: std::collections::HashMap<String, Arc<CustomSystem>>,
+    spec: Option<FormulaSpec>,
+    systems: std::collections::HashMap<Vec<(String, u64)>, Arc<CustomSystem>>,
 }
 
 impl CompiledSystems {
@@ -133,10 +134,13 @@ impl CompiledSystems {
         overrides: &[(String, f64)],
         limits: &CustomLimits,
     ) -> Result<Arc<CustomSystem>, InputError> {
+        if self.spec.as_ref() != Some(spec) {
+            self.spec = Some(spec.clone());
+            self.systems.clear();
+        }
         // Bits, not values: -0 and 0 may compile differently, and NaN is refused anyway.
-        let bits: Vec<(&str, u64)> =
-            overrides.iter().map(|(n, v)| (n.as_str(), v.to_bits())).collect();
-        let key = format!("{spec:?}{bits:?}");
+        let key: Vec<(String, u64)> =
+            overrides.iter().map(|(n, v)| (n.clone(), v.to_bits())).collect();
         if let Some(found) = self.systems.get(&key) {
             return Ok(found.clone());
         }

@@ -94,10 +94,10 @@ pub async fn sweep(
         let cells = cells?;
         let rows: Vec<_> = cells.into_iter().flat_map(|c| c.rows).collect();
         let body = if csv {
-            let values: Vec<serde_json::Value> =
-                rows.iter().map(|r| serde_json::to_value(r).unwrap_or_default()).collect();
+            // A row at a time into JSON values, for the same columns as merged shard files.
+            let values = rows.iter().map(|r| serde_json::to_value(r).unwrap_or_default());
             let axes: Vec<String> = sweep.head.axes.iter().map(|a| a.path.clone()).collect();
-            csv::write(&axes, &sweep.head.integrals, values.iter()).into_bytes()
+            csv::write(&axes, &sweep.head.integrals, values).into_bytes()
         } else {
             let response = SweepResponse { head: sweep.head.clone(), rows };
             serde_json::to_vec(&response)

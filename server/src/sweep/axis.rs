@@ -30,6 +30,18 @@ pub enum Target {
     },
 }
 
+impl Target {
+    /// Whether two axes would set the same value (`methods.alpha` and `methods[0].alpha`).
+    pub fn overlaps(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Self::Method { index: a, name: x }, Self::Method { index: b, name: y }) => {
+                x == y && (a.is_none() || b.is_none() || a == b)
+            }
+            _ => self == other,
+        }
+    }
+}
+
 /// The forms of a path, for errors.
 const PATHS: &str = "params.NAME, q[i], v[i], step, t_end, methods.NAME or methods[i].NAME";
 
@@ -40,8 +52,12 @@ impl Target {
             (!s.is_empty() && s.chars().all(|c| c.is_alphanumeric() || c == '_'))
                 .then(|| s.to_owned())
         };
+        // Digits only, without leading zeros: `q[01]` and `q[+1]` are not `q[1]`.
         let index = |s: &str, prefix: &str| -> Option<usize> {
-            s.strip_prefix(prefix)?.strip_suffix(']')?.parse().ok()
+            let digits = s.strip_prefix(prefix)?.strip_suffix(']')?;
+            let canonical = digits.bytes().all(|b| b.is_ascii_digit())
+                && !(digits.len() > 1 && digits.starts_with('0'));
+            if canonical { digits.parse().ok() } else { None }
         };
         match path {
             "step" => Some(Self::Step),
@@ -103,7 +119,11 @@ impl Axis {
             }
         };
         if let Some(i) = values.iter().position(|x| !x.is_finite()) {
-            return Err(AppError::invalid(at("values"), format!("value {i} is not finite")));
+            let field = [("linspace", &given.linspace), ("logspace", &given.logspace)]
+                .into_iter()
+                .find_map(|(f, g)| g.is_some().then_some(f))
+                .unwrap_or("values");
+            return Err(AppError::invalid(at(field), format!("value {i} is not finite")));
         }
         Ok(Self { path: given.path.clone(), target, values })
     }
@@ -239,7 +259,18 @@ mod tests {
             Target::parse("methods[1].alpha"),
             Some(Target::Method { index: Some(1), name: "alpha".into() })
         );
-        for bad in ["", "params.", "q[]", "q[-1]", "q[x]", "methods[a].alpha", "x", "params.a.b"] {
+        for bad in [
+            "",
+            "params.",
+            "q[]",
+            "q[-1]",
+            "q[x]",
+            "q[01]",
+            "q[+1]",
+            "methods[a].alpha",
+            "x",
+            "params.a.b",
+        ] {
             assert_eq!(Target::parse(bad), None, "{bad}");
         }
     }

@@ -10,11 +10,7 @@ use std::fmt::Write;
 const VERDICT: [&str; 5] = ["kind", "max", "early", "late", "ratio"];
 
 /// The CSV text of `rows` of a sweep over `axes` (paths) measuring `integrals`.
-pub fn write<'a>(
-    axes: &[String],
-    integrals: &[String],
-    rows: impl Iterator<Item = &'a Value>,
-) -> String {
+pub fn write(axes: &[String], integrals: &[String], rows: impl Iterator<Item = Value>) -> String {
     let mut out = String::new();
     let mut header: Vec<String> = vec!["cell".into()];
     header.extend(axes.iter().cloned());
@@ -28,6 +24,7 @@ pub fn write<'a>(
     header.push("simulate".into());
     line(&mut out, header.iter().map(|h| field(h)));
     for row in rows {
+        let row = &row;
         let mut fields = vec![scalar(&row["cell"])];
         let values = row["values"].as_array().map(Vec::as_slice).unwrap_or_default();
         fields.extend((0..axes.len()).map(|k| values.get(k).map_or(String::new(), scalar)));
@@ -86,7 +83,7 @@ mod tests {
         let text = write(
             &["params.epsilon".into(), "step".into()],
             &["energy".into(), "constraint".into()],
-            [&row].into_iter(),
+            [row].into_iter(),
         );
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(

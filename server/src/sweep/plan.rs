@@ -34,15 +34,17 @@ pub struct Sweep {
     pub cells: Vec<Cell>,
     /// Steps all the runs take together, sub-steps counted.
     pub total_steps: u64,
+    /// The request's scene as a `/simulate` body (no methods), and its initial state where
+    /// it gives none (the preset's).
+    base: (SimulateRequest, Vec<f64>, Vec<f64>),
 }
 
-/// One cell: its values, its body, its scene and its methods.
+/// One cell: its values, its scene and its methods (its body is made again when needed:
+/// a system given as formulas may take kilobytes, which ten thousand cells need not hold).
 #[derive(Debug)]
 pub struct Cell {
     /// Its value on each axis.
     pub values: Vec<f64>,
-    /// The `/simulate` body of the cell, its values in place (without methods).
-    pub body: SimulateRequest,
     /// The scene, or why the cell's values make it invalid (`field: reason`).
     pub scene: Result<Scene, String>,
     /// Each method as requested for this cell, and as resolved (or why not).
@@ -73,11 +75,12 @@ impl Sweep {
             .enumerate()
             .map(|(k, a)| Axis::check(k, a, config.max_sweep_cells))
             .collect::<Result<Vec<_>, _>>()?;
-        if let Some(k) = (1..axes.len()).find(|&k| axes[..k].iter().any(|a| a.path == axes[k].path))
+        if let Some(k) =
+            (1..axes.len()).find(|&k| axes[..k].iter().any(|a| a.target.overlaps(&axes[k].target)))
         {
             return Err(AppError::invalid(
                 format!("axes[{k}].path"),
-                format!("{} is swept twice; give each path once", axes[k].path),
+                format!("{} sets what an axis before it sets; sweep each value once", axes[k].path),
             ));
         }
         let cells: f64 = axes.iter().map(|a| a.values.len() as f64).product();
@@ -152,7 +155,14 @@ impl Sweep {
                     (m, resolved)
                 })
                 .collect();
-            out.push(Cell { values, body, scene, methods });
+            out.push(Cell { values, scene, methods });
+        }
+        // What is wrong in every cell alike is the request's, not the axes': a v off the
+        // constraints whatever ε.
+        let errors: Vec<&String> = out.iter().filter_map(|c| c.scene.as_ref().err()).collect();
+        if errors.len() == out.len() && errors.windows(2).all(|w| w[0] == w[1]) {
+            let (path, message) = errors[0].split_once(": ").unwrap_or(("", errors[0]));
+            return Err(AppError::invalid(path, message));
         }
         let total_steps = check_steps(&out, &axes, config, delivery)?;
         let integrals = req.integrals.clone();
@@ -173,7 +183,8 @@ impl Sweep {
             cells: n,
             criterion: CRITERION.to_owned(),
         };
-        let sweep = Self { head, axes, points, integrals, cells: out, total_steps };
+        let base = (body, q0, v0);
+        let sweep = Self { head, axes, points, integrals, cells: out, total_steps, base };
         if delivery != Delivery::Stream {
             let rows = (sweep.cells.len() * sweep.head.methods.len()) as u64;
             check_answer_bytes(rows.saturating_mul(sweep.row_bytes()), config, " (its rows)")?;
@@ -181,11 +192,21 @@ impl Sweep {
         Ok(sweep)
     }
 
+    /// The `/simulate` body of cell `c` (without methods), its values in place.
+    pub fn body(&self, c: usize) -> SimulateRequest {
+        let (base, q0, v0) = &self.base;
+        let mut body = base.clone();
+        for (a, &x) in self.axes.iter().zip(&self.cells[c].values) {
+            a.apply(x, &mut body, &mut [], q0, v0);
+        }
+        body
+    }
+
     /// About how many bytes a row takes as JSON.
     pub fn row_bytes(&self) -> u64 {
         let cell = &self.cells[0];
         let (request, method) = &cell.methods[0];
-        let echo = self.echo(cell, request, method.as_ref().ok());
+        let echo = self.echo(0, request, method.as_ref().ok());
         let body = serde_json::to_vec(&echo).map_or(1000, |b| b.len()) as u64;
         300 + 130 * self.head.integrals.len() as u64 + 20 * cell.values.len() as u64 + body
     }

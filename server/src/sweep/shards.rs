@@ -11,6 +11,7 @@
 use crate::compute::{Caches, Cancel, Delivery};
 use crate::config::Config;
 use crate::error::AppError;
+use crate::json_object::read_object;
 use crate::request::SweepRequest;
 use crate::sweep::Sweep;
 use crate::sweep::csv;
@@ -143,12 +144,10 @@ pub fn local_config() -> Config {
 /// Reads and checks a spec (a `POST /sweep` body) from `text`; `file` names it in errors.
 pub fn spec(text: &str, file: &str) -> Result<(Value, Sweep), ShardError> {
     let err = |error: AppError| ShardError::Spec { file: file.to_owned(), error };
+    // Read as the server reads a body (same errors, same paths); the JSON value is kept only
+    // for the shard files' header.
+    let req: SweepRequest = read_object(text.as_bytes()).map_err(err)?;
     let value: Value = serde_json::from_str(text).map_err(|e| err(AppError::malformed(&e)))?;
-    let req: SweepRequest = serde_path_to_error::deserialize(&value).map_err(|e| {
-        // The same paths and messages as the API's 400s.
-        let path = e.path().to_string();
-        err(AppError::invalid(path, e.into_inner().to_string()))
-    })?;
     let caches = Caches::default();
     let axis = move |scene: &nhlab_core::Scene| caches.latitude(scene);
     let sweep = Sweep::check(&req, &local_config(), Delivery::Stream, &axis).map_err(err)?;
@@ -177,7 +176,7 @@ pub fn run(text: &str, file: &str, opts: &Options) -> Result<Report, ShardError>
         }
         Some(path) => {
             let io = |source| ShardError::Io { path: path.clone(), source };
-            if opts.resume && path.exists() {
+            if opts.resume && has_header(path) {
                 let kept = keep_whole(path, &header, methods)?;
                 let f = std::fs::OpenOptions::new().append(true).open(path).map_err(io)?;
                 (Box::new(f), kept)
@@ -194,7 +193,7 @@ pub fn run(text: &str, file: &str, opts: &Options) -> Result<Report, ShardError>
     compute(&sweep, &todo, opts.threads, |cell| {
         let mut text = String::new();
         for row in &cell.rows {
-            text += &serde_json::to_string(row).unwrap_or_default();
+            text += &serde_json::to_string(row).map_err(|e| format_error(file, &e))?;
             text.push('\n');
         }
         sink.write_all(text.as_bytes())
@@ -237,6 +236,15 @@ pub fn compute(
 
 fn format_error(file: &str, e: &serde_json::Error) -> ShardError {
     ShardError::Format { path: file.into(), message: e.to_string() }
+}
+
+/// Whether `path` holds at least a whole header line (a shard killed right after creating
+/// its file holds less: it starts over).
+fn has_header(path: &Path) -> bool {
+    File::open(path)
+        .ok()
+        .and_then(|f| BufReader::new(f).lines().next()?.ok())
+        .is_some_and(|line| serde_json::from_str::<ShardHeader>(&line).is_ok())
 }
 
 /// One parsed row line: its cell and method, and its bytes.
@@ -312,7 +320,9 @@ fn keep_whole(path: &Path, header: &ShardHeader, methods: usize) -> Result<Vec<u
     }
     let cells = whole_cells(rows, methods);
     let io = |source| ShardError::Io { path: path.to_owned(), source };
-    let tmp = path.with_extension("resume.tmp");
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".resume.tmp");
+    let tmp = PathBuf::from(tmp);
     let mut text =
         serde_json::to_string(header).map_err(|e| format_error(&path.display().to_string(), &e))?;
     text.push('\n');
@@ -371,6 +381,13 @@ pub fn merge(paths: &[PathBuf], format: MergeFormat) -> Result<String, ShardErro
         return Err(ShardError::Incomplete("no shard files given".into()));
     };
     let h = head_of(&header, &path)?;
+    if let Some((c, (_, file))) = cells.range(h.cells..).next() {
+        return Err(ShardError::Incomplete(format!(
+            "{} holds cell {c}, beyond the sweep's {} cells",
+            file.display(),
+            h.cells
+        )));
+    }
     let missing: Vec<usize> = (0..h.cells).filter(|c| !cells.contains_key(c)).collect();
     if !missing.is_empty() {
         let shards: std::collections::BTreeSet<String> = missing
@@ -405,10 +422,12 @@ pub fn merge(paths: &[PathBuf], format: MergeFormat) -> Result<String, ShardErro
             out
         }
         MergeFormat::Csv => {
-            let values: Vec<Value> =
-                rows.map(|r| serde_json::from_str(r).unwrap_or(Value::Null)).collect();
             let axes: Vec<String> = h.axes.into_iter().map(|a| a.path).collect();
-            csv::write(&axes, &h.integrals, values.iter())
+            csv::write(
+                &axes,
+                &h.integrals,
+                rows.map(|r| serde_json::from_str(r).unwrap_or(Value::Null)),
+            )
         }
     })
 }

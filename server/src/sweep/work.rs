@@ -7,7 +7,7 @@
 use crate::compute::{Cancel, PROGRESS_EVERY, ThreadClock};
 use crate::observers::JsonCollector;
 use crate::request::{FormulaSystem, MethodRequest, SystemField};
-use crate::sweep::plan::{AxisSource, Cell, Sweep, prepare};
+use crate::sweep::plan::{AxisSource, Sweep, prepare};
 use crate::views::{MethodView, RowStatus, SimulateEcho, SweepCell, SweepRow};
 use nhlab_core::solver::newton;
 use nhlab_core::{Method, RunConfig, RunError, Scene};
@@ -62,7 +62,7 @@ impl Sweep {
                 cpu_ms: None,
                 newton_iterations: None,
                 verdicts: BTreeMap::new(),
-                simulate: self.echo(cell, request, method.as_ref().ok()),
+                simulate: self.echo(c, request, method.as_ref().ok()),
             };
             match (&prepared, method) {
                 (Err(e), _) | (_, Err(e)) => row.error = Some(e.clone()),
@@ -106,46 +106,58 @@ impl Sweep {
     /// is invalid) and the one method.
     pub(crate) fn echo(
         &self,
-        cell: &Cell,
+        c: usize,
         request: &MethodRequest,
         method: Option<&Method>,
     ) -> SimulateEcho {
-        let body = &cell.body;
         let method = match method {
             Some(m) => method_body(&crate::sweep::plan::request_of(m)),
             None => method_body(request),
         };
-        let mut echo = SimulateEcho {
-            system: body.system.clone(),
-            preset: body.preset.clone(),
-            params: body.params.iter().flat_map(|p| p.0.iter().cloned()).collect(),
-            q: body.q.clone(),
-            v: body.v.clone(),
-            step: body.step,
-            t_end: body.t_end,
-            integrals: body.integrals.clone(),
-            methods: vec![method],
-            points: self.points,
-        };
-        if let Ok(scene) = &cell.scene {
-            resolved(&mut echo, scene);
+        let integrals = self.integrals.clone();
+        match &self.cells[c].scene {
+            Ok(scene) => resolved(scene, integrals, method, self.points),
+            Err(_) => {
+                let body = self.body(c);
+                SimulateEcho {
+                    system: body.system,
+                    preset: body.preset,
+                    params: body.params.iter().flat_map(|p| p.0.iter().cloned()).collect(),
+                    q: body.q,
+                    v: body.v,
+                    step: body.step,
+                    t_end: body.t_end,
+                    integrals,
+                    methods: vec![method],
+                    points: self.points,
+                }
+            }
         }
-        echo
     }
 }
 
-/// Fills `echo` with every value of the resolved `scene`.
-fn resolved(echo: &mut SimulateEcho, scene: &Scene) {
-    echo.system = match scene.system.custom() {
-        None => SystemField::Id(scene.system.id().to_owned()),
-        Some(c) => SystemField::Formulas(Box::new(FormulaSystem::of(&c.spec))),
-    };
-    echo.preset = scene.preset.map(str::to_owned);
-    echo.params = scene.named_params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect();
-    echo.q = Some(scene.q.clone());
-    echo.v = Some(scene.v.clone());
-    echo.step = Some(scene.step);
-    echo.t_end = Some(scene.t_end);
+/// The body of a resolved `scene`: every value in place.
+fn resolved(
+    scene: &Scene,
+    integrals: Option<Vec<String>>,
+    method: BTreeMap<String, Value>,
+    points: usize,
+) -> SimulateEcho {
+    SimulateEcho {
+        system: match scene.system.custom() {
+            None => SystemField::Id(scene.system.id().to_owned()),
+            Some(c) => SystemField::Formulas(Box::new(FormulaSystem::of(&c.spec))),
+        },
+        preset: scene.preset.map(str::to_owned),
+        params: scene.named_params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect(),
+        q: Some(scene.q.clone()),
+        v: Some(scene.v.clone()),
+        step: Some(scene.step),
+        t_end: Some(scene.t_end),
+        integrals,
+        methods: vec![method],
+        points,
+    }
 }
 
 /// A method request as a `/simulate` body gives it: `{"id": …, "alpha": …, "composition": …}`.
