@@ -2,6 +2,7 @@
 //! for random well-formed formulas; tapes against the graph they were compiled from; and
 //! the parser against hostile input, which gets typed errors and never a panic.
 
+use crate::common;
 use nhlab_core::formula::derive::Derivative;
 use nhlab_core::formula::parse::{Name, Names, parse};
 use nhlab_core::formula::{FormulaError, Function, Graph, Limits, Tape};
@@ -77,7 +78,11 @@ fn central(f: &dyn Fn(&[f64; 3]) -> f64, p: &[f64; 3], i: usize) -> (f64, f64) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig {
+        cases: 300,
+        failure_persistence: common::regressions(),
+        ..ProptestConfig::default()
+    })]
 
     /// ∂f/∂xᵢ and ∂²f/∂xᵢ∂xⱼ against central differences of the graph's own evaluation, and
     /// the tapes against the graph.

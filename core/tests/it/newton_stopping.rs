@@ -14,8 +14,7 @@
 //! bilinear one as 0 stopped DLA^0.5 8.1·10⁻¹⁴ from the converged step, trusting a first
 //! increment below 0.1 stopped DD 5.9·10⁻¹³ from it.
 
-mod common;
-use common::{case, preset_start, worst_step_difference};
+use crate::common::{case, preset_start, worst_step_difference};
 use nhlab_core::BuiltIn;
 use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01};
 use nhlab_core::{Method, MethodMemory, NewtonConfig, State};

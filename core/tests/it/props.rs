@@ -3,7 +3,7 @@
 //! errors, and ends `ok` or with a typed failure naming its step. Resolution of random,
 //! possibly absurd, user numbers never panics either.
 
-mod common;
+use crate::common;
 use nhlab_core::BuiltIn;
 use nhlab_core::{
     Collect, Method, MethodSpec, RunConfig, Scene, SceneRequest, Vector, method_infos,
@@ -92,7 +92,11 @@ fn random_scenes_never_panic_and_report_finite_errors() {
 }
 
 proptest! {
-    #![proptest_config(Config { cases: 256, ..Config::default() })]
+    #![proptest_config(Config {
+        cases: 256,
+        failure_persistence: common::regressions(),
+        ..Config::default()
+    })]
     #[test]
     fn resolving_absurd_numbers_never_panics(
         system in prop::sample::select(

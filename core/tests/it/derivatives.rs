@@ -4,7 +4,6 @@
 //! `quadratic_driver` declare, the absent U that `free_passenger` declares, and its driver
 //! terms from sin/cos against the plain functions.
 
-mod common;
 use nhlab_core::BuiltIn;
 use nhlab_core::{Matrix, System, Vector};
 use std::f64::consts::TAU;

@@ -4,8 +4,7 @@
 //! structure each sub-step keeps, kept by the whole step (`properties`, DD's and DD-AVF's
 //! energy).
 
-mod common;
-use common::{disk_exact, knife_exact};
+use crate::common::{self, disk_exact, knife_exact};
 use nhlab_core::measure::properties;
 use nhlab_core::measure::reference::reference;
 use nhlab_core::systems::{Cvt, KnifeEdge, RollingDisk};

@@ -7,8 +7,7 @@
 //! that the test cannot pass by measuring nothing. DD-AVF is the same method where V is
 //! quadratic and takes the same end, so it is held to the same bound.
 
-mod common;
-use common::{case, preset_start};
+use crate::common::{case, preset_start};
 use nhlab_core::BuiltIn;
 use nhlab_core::Method;
 use nhlab_core::methods::{Dd, DdAvf};

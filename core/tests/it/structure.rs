@@ -1,8 +1,7 @@
 //! Structural properties on every registered system: constraints at every step, exact
 //! energy for DD, and reversibility (`docs/model.md` §3).
 
-mod common;
-use common::preset_start;
+use crate::common::preset_start;
 use nhlab_core::BuiltIn;
 use nhlab_core::{
     BaseMethod, Bucket, Integral, Method, MethodMemory, MethodSpec, Observer, Problem, RunConfig,

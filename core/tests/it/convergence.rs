@@ -2,8 +2,7 @@
 //! log(global error at a fixed time) against log(h) over 5 step sizes (4 halvings), with
 //! errors at the round-off plateau (< 1e-11) dropped.
 
-mod common;
-use common::{disk_exact, knife_exact};
+use crate::common::{self, disk_exact, knife_exact};
 use nhlab_core::BuiltIn;
 use nhlab_core::systems::{KnifeEdge, RollingDisk};
 use nhlab_core::{Method, MethodSpec, State, System, Vector};

@@ -5,8 +5,7 @@
 //! `(q₁, q̇₁, λ₁)` to 1e-13 (relative to the state's size). Every test system has a quadratic
 //! U, so the wrapped systems are also what runs the general paths at all.
 
-mod common;
-use common::{case, preset_start, worst_step_difference};
+use crate::common::{case, preset_start, worst_step_difference};
 use nhlab_core::BuiltIn;
 use nhlab_core::methods::{Dd, DdAvf};
 use nhlab_core::{DriverTerms, Matrix, Method, System, SystemInfo, Vector};

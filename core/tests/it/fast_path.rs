@@ -8,8 +8,7 @@
 //! leave the energy unbiased: the mean of one step's energy change along a trajectory stays at
 //! round-off's, as on their general paths, at the presets' steps and at larger ones.
 
-mod common;
-use common::{case, preset_start, size, step_difference};
+use crate::common::{case, preset_start, size, step_difference};
 use nhlab_core::BuiltIn;
 use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01};
 use nhlab_core::{BaseMethod, Method};

@@ -1,12 +1,13 @@
 //! Shared test helpers: `for_each_system!` callable unqualified, typed access to presets, and
 //! the comparison of one step of two methods from the same state.
-#![allow(dead_code)] // each test file uses a different subset
 
 use nhlab_core::BuiltIn;
 use nhlab_core::{State, Vector};
+use proptest::test_runner::{FailurePersistence, FileFailurePersistence};
 use std::f64::consts::FRAC_PI_2;
 
-/// `nhlab_core::for_each_system!`, callable unqualified from every test file.
+/// `nhlab_core::for_each_system!`, callable unqualified from every test module (`main.rs`
+/// declares this module `#[macro_use]`, ahead of the others).
 #[macro_export]
 macro_rules! for_each_system {
     ($($t:tt)*) => {
@@ -101,4 +102,12 @@ pub fn knife_exact(t: f64) -> (Vector<3>, Vector<3>) {
 pub fn disk_exact(t: f64) -> (Vector<4>, Vector<4>) {
     let (s, c) = t.sin_cos();
     (Vector::<4>::new(-s, c - 1.0, t, t), Vector::<4>::new(-c, -s, 1.0, 1.0))
+}
+
+/// Where proptest keeps the failing cases it has found: `<module>.proptest-regressions` beside
+/// the module's file (`formulas.rs` → `formulas.proptest-regressions`). Proptest's default,
+/// `SourceParallel`, looks above the source file for a `lib.rs` or `main.rs`, would find this
+/// binary's `main.rs` and use `core/tests/proptest-regressions/<module>.txt` instead.
+pub fn regressions() -> Option<Box<dyn FailurePersistence>> {
+    Some(Box::new(FileFailurePersistence::WithSource("proptest-regressions")))
 }

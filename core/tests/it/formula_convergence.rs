@@ -4,7 +4,7 @@
 //! (least-squares slope of log error against log h over 5 step sizes), and DD keeps H at
 //! round-off, as it does on every system of the class.
 
-mod common;
+use crate::common;
 use nhlab_core::measure::reference::reference_until;
 use nhlab_core::model::custom::Custom;
 use nhlab_core::{

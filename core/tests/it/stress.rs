@@ -3,7 +3,7 @@
 //! error (H, E and h) stays below the stated bound `max |I − I(0)| ≤ 0.1 · max(1, |I(0)|)`. Every run, however
 //! large its step, must end — `ok` or `failed` with a message naming the step — never panic
 //! or hang (each run is at most 4000 steps). Prints the table of docs/stability.md:
-//! `cargo test --release -p nhlab-core --test stress -- --nocapture`
+//! `cargo test --release -p nhlab-core --test it stress:: -- --nocapture`
 
 use nhlab_core::{
     Collect, Integral, Method, MethodSpec, RunConfig, SYSTEMS, Scene, SceneRequest, method_infos,

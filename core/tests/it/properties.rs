@@ -3,8 +3,7 @@
 //! driver: DD reversible but not fibration-preserving, DLA^0.4 not reversible, the other
 //! three both. RK4 must be caught leaving the constraint manifold.
 
-mod common;
-use common::preset_start;
+use crate::common::preset_start;
 use nhlab_core::BuiltIn;
 use nhlab_core::{
     Collect, Method, MethodSpec, RunConfig, SYSTEMS, Scene, SceneRequest, method_infos,

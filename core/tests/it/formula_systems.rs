@@ -4,8 +4,7 @@
 //! preset, compiled to machine code and interpreted alike; and on the paper's six scenes
 //! every method's verdicts are the built-in's.
 
-mod common;
-use common::{case, preset_start, step_difference};
+use crate::common::{case, preset_start, step_difference};
 use nhlab_core::model::custom::Custom;
 use nhlab_core::{
     BuiltIn, Collect, CustomLimits, CustomSystem, FormulaSpec, Integral, Method, PAPER_SCENES,
