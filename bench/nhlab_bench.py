@@ -105,12 +105,12 @@ def _exit_on_signal(signum, _frame):
     sys.exit(128 + signum)
 
 
-def post_json(server, body):
-    """POST /simulate as JSON: (status, parsed body, client wall seconds)."""
+def post_json(server, body, path="/simulate"):
+    """POST `path` as JSON: (status, parsed body, client wall seconds)."""
     data = json.dumps(body).encode()
     c = server.connection()
     t0 = time.perf_counter()
-    c.request("POST", "/simulate", data, {"content-type": "application/json"})
+    c.request("POST", path, data, {"content-type": "application/json"})
     r = c.getresponse()
     raw = r.read()
     wall = time.perf_counter() - t0
