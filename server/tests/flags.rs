@@ -71,7 +71,9 @@ async fn flags_and_environment_set_the_limits() {
             .env("NHLAB_MAX_STEPS_JSON", "1000")
             .env("NHLAB_MAX_STEPS_STREAM", "2000")
             .args(["--max-formula-chars", "30", "--max-formula-depth", "3"])
-            .env("NHLAB_MAX_FORMULA_PARAMETERS", "1");
+            .env("NHLAB_MAX_FORMULA_PARAMETERS", "1")
+            .args(["--max-sweep-cells", "7"])
+            .env("NHLAB_MAX_SWEEP_STEPS", "9000");
     });
     let url = &server.url;
     let systems: Value =
@@ -80,7 +82,8 @@ async fn flags_and_environment_set_the_limits() {
         systems["limits"],
         json!({"max_steps_json": 1000, "max_steps_stream": 2000, "max_points": 50,
                "max_methods": 2, "max_body_bytes": 2000, "max_simulations": 3,
-               "formula_chars": 30, "formula_depth": 3, "formula_parameters": 1})
+               "formula_chars": 30, "formula_depth": 3, "formula_parameters": 1,
+               "max_sweep_cells": 7, "max_sweep_steps": 9000})
     );
     let health: Value = reqwest::get(format!("{url}/health")).await.unwrap().json().await.unwrap();
     assert_eq!(health["max_simulations"], 3);
