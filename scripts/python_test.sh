@@ -9,7 +9,9 @@ cd "$(dirname "$0")/.."
 if ! python3 -c 'import numpy, pytest, pandas, distributed' 2>/dev/null; then
     python3 -m pip install --quiet "numpy>=1.24" "pytest>=8" "pandas>=2" "dask[distributed]>=2024.1"
 fi
-PYO3_PYTHON=$(command -v python3) cargo build --quiet --profile test -p nhlab-python -p nhlab-server --bin nhlab
+export PYO3_PYTHON="$(command -v python3)"
+cargo build --quiet --profile test -p nhlab-python --lib
+cargo build --quiet --profile test -p nhlab-server --bin nhlab
 target="${CARGO_TARGET_DIR:-target}/debug"
 package=$(mktemp -d)
 trap 'rm -rf "$package"' EXIT
