@@ -5,6 +5,7 @@
 // `system.parameters.k`), so the form shows a server error at its input.
 
 import { customFromFields, parseNames } from './custom.js';
+import { el } from './dom.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -160,11 +161,4 @@ function input(className, value, label) {
   i.value = value;
   if (label) i.setAttribute('aria-label', label);
   return i;
-}
-
-function el(tag, className, text) {
-  const e = document.createElement(tag);
-  if (className) e.className = className;
-  if (text !== undefined) e.textContent = text;
-  return e;
 }

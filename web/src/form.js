@@ -9,6 +9,7 @@ import { CUSTOM, customIntegrals, isCustom, startingPoints } from './custom.js';
 import { Editor } from './editor.js';
 import { parseList } from './state.js';
 import { runColor } from './plots.js';
+import { el, option } from './dom.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -328,18 +329,4 @@ function fmt(v) {
 
 function setNumber(input, v) {
   input.value = v === null || v === undefined || Number.isNaN(v) ? '' : String(v);
-}
-
-function option(value, text) {
-  const o = document.createElement('option');
-  o.value = value;
-  o.textContent = text;
-  return o;
-}
-
-function el(tag, className, text) {
-  const e = document.createElement(tag);
-  if (className) e.className = className;
-  if (text !== undefined) e.textContent = text;
-  return e;
 }

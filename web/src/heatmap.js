@@ -8,6 +8,7 @@
 
 import { FLOOR } from './series.js';
 import { VERDICTS } from './verdicts.js';
+import { el } from './dom.js';
 
 /** Fill colours of the verdicts and of the cells that have none. */
 export const KIND_COLORS = {
@@ -325,11 +326,4 @@ function hatch(ctx, r, gap) {
   ctx.restore();
   ctx.strokeStyle = '#cbd5e1';
   ctx.strokeRect(r.x + 0.5, r.y + 0.5, r.w - gap - 1, r.h - gap - 1);
-}
-
-function el(tag, className, text) {
-  const e = document.createElement(tag);
-  if (className) e.className = className;
-  if (text !== undefined) e.textContent = text;
-  return e;
 }

@@ -20,6 +20,7 @@ import { renderRuns } from './runs.js';
 import { defaultWindow, paperExperiments } from './catalog.js';
 import { CUSTOM, customFrom, customIntegrals, isCustom, sceneCaption, systemName } from './custom.js';
 import { decodeState, defaultCustomState, defaultState, encodeState, requestBody } from './state.js';
+import { download } from './dom.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -362,17 +363,6 @@ function fileStem() {
   const s = result.scene;
   const system = isCustom(s.system) ? systemName(s.system, catalog).toLowerCase().replace(/[^a-z0-9]+/g, '-').replace(/^-|-$/g, '') || 'custom' : s.system;
   return ['nhlab', system, s.preset].filter(Boolean).join('-');
-}
-
-function download(name, type, text) {
-  const url = URL.createObjectURL(new Blob([text], { type }));
-  const a = document.createElement('a');
-  a.href = url;
-  a.download = name;
-  document.body.append(a);
-  a.click();
-  a.remove();
-  setTimeout(() => URL.revokeObjectURL(url), 1000);
 }
 
 start();

@@ -16,6 +16,7 @@ import PRESETS from './map-presets.json';
 import { axisPaths, cellAtXY, cellXY, decodeSettings, mapPresets, mapQuery, presetSetup, sweepBody } from './sweep.js';
 import { SweepResult, cellLines, cellState, fmt } from './sweepresult.js';
 import { VERDICTS } from './verdicts.js';
+import { download, el } from './dom.js';
 
 export class MapView {
   /**
@@ -316,22 +317,4 @@ function methodLabel(catalog, m) {
 
 function seconds(ms) {
   return Number.isFinite(ms) ? (ms < 1000 ? `${Math.round(ms)} ms` : `${(ms / 1000).toFixed(1)} s`) : '–';
-}
-
-function download(name, type, text) {
-  const url = URL.createObjectURL(new Blob([text], { type }));
-  const a = document.createElement('a');
-  a.href = url;
-  a.download = name;
-  document.body.append(a);
-  a.click();
-  a.remove();
-  setTimeout(() => URL.revokeObjectURL(url), 1000);
-}
-
-function el(tag, className, text) {
-  const e = document.createElement(tag);
-  if (className) e.className = className;
-  if (text !== undefined) e.textContent = text;
-  return e;
 }

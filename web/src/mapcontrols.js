@@ -6,6 +6,7 @@
 import { KINDS, MAX_AXES, cellCount, checkAxis, expandAxis } from './sweep.js';
 import { fmt } from './sweepresult.js';
 import { parseList } from './state.js';
+import { el, option } from './dom.js';
 
 const KIND_TEXT = {
   linspace: ['evenly spaced', 'start, stop, count'],
@@ -207,18 +208,4 @@ function labelFor(control, text) {
   const l = el('label', '', text);
   l.htmlFor = control.id;
   return l;
-}
-
-function option(value, text) {
-  const o = document.createElement('option');
-  o.value = value;
-  o.textContent = text;
-  return o;
-}
-
-function el(tag, className, text) {
-  const e = document.createElement(tag);
-  if (className) e.className = className;
-  if (text !== undefined) e.textContent = text;
-  return e;
 }

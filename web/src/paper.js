@@ -15,6 +15,7 @@ import { Plots } from './plots.js';
 import { Result } from './result.js';
 import { requestBody } from './state.js';
 import { VERDICTS, verdictTitle } from './verdicts.js';
+import { el } from './dom.js';
 
 /** What the paper finds about each integral's error, in terms of the methods' properties. */
 export const PAPER_NOTES = {
@@ -169,11 +170,4 @@ export class PaperView {
     this.status.dataset.state = state;
     this.status.textContent = text;
   }
-}
-
-function el(tag, className, text) {
-  const e = document.createElement(tag);
-  if (className) e.className = className;
-  if (text !== undefined) e.textContent = text;
-  return e;
 }

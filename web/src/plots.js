@@ -4,6 +4,7 @@
 
 import uPlot from 'uplot';
 import { FLOOR, displaySeries } from './series.js';
+import { el } from './dom.js';
 
 const COLORS = ['#2563eb', '#dc2626', '#16a34a', '#9333ea', '#ea580c', '#0891b2', '#ca8a04', '#db2777', '#475569', '#65a30d'];
 
@@ -223,11 +224,4 @@ function drawFloor(u, chart) {
   ctx.textAlign = 'right';
   ctx.fillText('round-off floor', left + width - 4 * devicePixelRatio, y - 4 * devicePixelRatio);
   ctx.restore();
-}
-
-function el(tag, className, text) {
-  const e = document.createElement(tag);
-  if (className) e.className = className;
-  if (text !== undefined) e.textContent = text;
-  return e;
 }

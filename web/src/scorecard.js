@@ -7,6 +7,7 @@
 import { ApiError, fetchScorecard, retrying } from './api.js';
 import { findPreset, findSystem, presetLabel, systemShortName } from './catalog.js';
 import { INTEGRAL_NAME, INTEGRAL_SHORT, VERDICTS, propertyMark, sceneIntegrals, systemsOf, verdictTitle } from './verdicts.js';
+import { el } from './dom.js';
 
 export class ScorecardView {
   /** `onOpen(scene, methods)`: show a scene's plots in the main view. */
@@ -149,11 +150,4 @@ export function sceneLabel(catalog, s) {
   const preset = findPreset(findSystem(catalog, s.scene.system), s.scene.preset);
   const label = preset ? presetLabel(preset) : s.id;
   return s.id.includes('#') ? `${label} (${s.id.split('#')[1]})` : label;
-}
-
-function el(tag, className, text) {
-  const e = document.createElement(tag);
-  if (className) e.className = className;
-  if (text !== undefined) e.textContent = text;
-  return e;
 }

@@ -9,6 +9,7 @@ import { ApiError, fetchWorkPrecision, retrying } from './api.js';
 import { sceneCaption } from './custom.js';
 import { runColor, runWidth } from './plots.js';
 import { MAX_LEVELS, MAX_REPEATS, curves, decodeSettings, formatOrder, workPrecisionBody, workPrecisionQuery } from './precision.js';
+import { el } from './dom.js';
 
 const HEIGHT = 320;
 
@@ -224,11 +225,4 @@ function short(v) {
   if (v === null || v === undefined) return '';
   const a = Math.abs(v);
   return a !== 0 && (a < 1e-3 || a >= 1e4) ? v.toExponential(1).replace('e-', 'e−') : String(Number(v.toPrecision(3)));
-}
-
-function el(tag, className, text) {
-  const e = document.createElement(tag);
-  if (className) e.className = className;
-  if (text !== undefined) e.textContent = text;
-  return e;
 }
