@@ -2,22 +2,28 @@
 //! Python process, without a socket: a request is handed to the same router `nhlab` serves
 //! ([`nhlab_server::app`]) and its answer returned as (status, content type, body), so the
 //! Python functions give exactly the numbers, the errors and the paths of the HTTP API. The
-//! interpreter's lock is released while a request computes, so Python threads run in parallel.
+//! interpreter's lock is released while a request computes, so Python threads run in parallel,
+//! and Ctrl-C stops the computation and raises `KeyboardInterrupt`.
 //!
 //! For sweeps on a Dask cluster, [`shard`] computes one shard's rows on the calling thread's
 //! process, as `nhlab sweep --shard I/N` does.
 
 use axum::body::Body;
 use axum::http::{Method, Request, header};
+use nhlab_server::compute::Cancel;
 use nhlab_server::sweep::shards;
 use nhlab_server::{AppState, Config, app};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, mpsc};
+use std::time::Duration;
 use tower::ServiceExt;
 
 /// The answer's size cap: what the server's own limits let through, with room.
 const MAX_ANSWER: usize = 1 << 30;
+
+/// How often a waiting call looks for signals (Ctrl-C).
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
 
 /// The runtime and the router of one process.
 type Served = Arc<(tokio::runtime::Runtime, axum::Router)>;
@@ -75,26 +81,62 @@ fn request(
     let request = builder
         .body(Body::from(body.unwrap_or_default()))
         .map_err(|e| PyRuntimeError::new_err(format!("request: {e}")))?;
-    py.detach(|| {
-        let served = served();
-        let (runtime, router) = &*served;
-        runtime.block_on(async {
-            let Ok(response) = router.clone().oneshot(request).await;
-            let status = response.status().as_u16();
-            let kind = response
-                .headers()
-                .get(header::CONTENT_TYPE)
-                .and_then(|v| v.to_str().ok())
-                .unwrap_or("")
-                .to_owned();
-            let bytes = axum::body::to_bytes(response.into_body(), MAX_ANSWER)
-                .await
-                .map_err(|e| PyRuntimeError::new_err(format!("reading the answer: {e}")))?;
-            let text = String::from_utf8(bytes.to_vec())
-                .map_err(|e| PyRuntimeError::new_err(format!("the answer is not UTF-8: {e}")))?;
-            Ok((status, kind, text))
-        })
-    })
+    let served = served();
+    let (runtime, router) = &*served;
+    let router = router.clone();
+    let (tx, rx) = mpsc::sync_channel(1);
+    let task = runtime.spawn(async move {
+        let _ = tx.send(answer(router, request).await);
+    });
+    // Dropping the task's future is the client leaving: the server stops its runs.
+    wait(py, rx, || task.abort())
+}
+
+/// The router's answer to `request` as (status, content type, body).
+async fn answer(router: axum::Router, request: Request<Body>) -> PyResult<(u16, String, String)> {
+    let Ok(response) = router.oneshot(request).await;
+    let status = response.status().as_u16();
+    let kind = response
+        .headers()
+        .get(header::CONTENT_TYPE)
+        .and_then(|v| v.to_str().ok())
+        .unwrap_or("")
+        .to_owned();
+    let bytes = axum::body::to_bytes(response.into_body(), MAX_ANSWER)
+        .await
+        .map_err(|e| PyRuntimeError::new_err(format!("reading the answer: {e}")))?;
+    let text = String::from_utf8(bytes.to_vec())
+        .map_err(|e| PyRuntimeError::new_err(format!("the answer is not UTF-8: {e}")))?;
+    Ok((status, kind, text))
+}
+
+/// Waits for a result on `rx` without the interpreter's lock, looking for signals (Ctrl-C)
+/// every [`SIGNAL_POLL`]: a signal's exception (`KeyboardInterrupt`) stops the work through
+/// `stop` and is raised.
+fn wait<T: Send>(
+    py: Python<'_>,
+    mut rx: mpsc::Receiver<PyResult<T>>,
+    stop: impl FnOnce(),
+) -> PyResult<T> {
+    loop {
+        let received;
+        (rx, received) = py.detach(move || {
+            let received = rx.recv_timeout(SIGNAL_POLL);
+            (rx, received)
+        });
+        match received {
+            Ok(result) => return result,
+            Err(mpsc::RecvTimeoutError::Timeout) => {
+                if let Err(signal) = py.check_signals() {
+                    stop();
+                    return Err(signal);
+                }
+            }
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(PyRuntimeError::new_err("the request ended without an answer"));
+            }
+        }
+    }
 }
 
 /// `shard(spec, index, count, threads) -> (head, rows)`: the rows (JSON text, one per row, by
@@ -114,21 +156,29 @@ fn shard(
             "a shard is index/count with 0 ≤ index < count, got {index}/{count}"
         )));
     }
-    py.detach(|| {
-        let (_, sweep) = shards::spec(spec, "spec").map_err(py_error)?;
-        let head = serde_json::to_string(&sweep.head)
-            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-        let cells: Vec<usize> = (0..sweep.cells.len()).filter(|c| c % count == index).collect();
-        let mut rows: Vec<(usize, Vec<String>)> = Vec::with_capacity(cells.len());
-        shards::compute(&sweep, &cells, threads, |cell| {
-            let lines = cell.rows.iter().map(serde_json::to_string).collect::<Result<_, _>>();
-            let lines = lines.map_err(|e| shards::ShardError::Incomplete(e.to_string()))?;
-            rows.push((cell.cell, lines));
-            Ok(())
-        })
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-        rows.sort_by_key(|(c, _)| *c);
-        Ok((head, rows.into_iter().flat_map(|(_, r)| r).collect()))
+    let (_, sweep) = py.detach(|| shards::spec(spec, "spec")).map_err(py_error)?;
+    let head =
+        serde_json::to_string(&sweep.head).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let cells: Vec<usize> = (0..sweep.cells.len()).filter(|c| c % count == index).collect();
+    let cancel = Cancel::default();
+    let (tx, rx) = mpsc::sync_channel(1);
+    std::thread::scope(|scope| {
+        scope.spawn(|| {
+            let mut rows: Vec<(usize, Vec<String>)> = Vec::with_capacity(cells.len());
+            let computed = shards::compute(&sweep, &cells, threads, &cancel, |cell| {
+                let lines = cell.rows.iter().map(serde_json::to_string).collect::<Result<_, _>>();
+                let lines = lines.map_err(|e| shards::ShardError::Incomplete(e.to_string()))?;
+                rows.push((cell.cell, lines));
+                Ok(())
+            });
+            let result = computed.map_err(|e| PyRuntimeError::new_err(e.to_string())).map(|()| {
+                rows.sort_by_key(|(c, _)| *c);
+                rows.into_iter().flat_map(|(_, r)| r).collect::<Vec<String>>()
+            });
+            let _ = tx.send(result);
+        });
+        // On a signal the runs stop; the scope then waits for the workers to return.
+        wait(py, rx, || cancel.cancel()).map(|rows| (head, rows))
     })
 }
 

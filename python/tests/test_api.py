@@ -2,6 +2,7 @@
 (timing aside), equal errors and paths; the interpreter's lock released while nhlab computes;
 a fast import."""
 
+import json
 import math
 import os
 import subprocess
@@ -161,3 +162,44 @@ def test_import_is_fast():
     times = [float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                                   check=True).stdout) for _ in range(3)]
     assert min(times) < 0.5, times
+
+
+INTERRUPTED = r"""
+import json, os, signal, sys, threading, time
+import nhlab
+from nhlab import _nhlab
+
+def interrupted(call):
+    threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()
+    start = time.perf_counter()
+    try:
+        call()
+    except KeyboardInterrupt:
+        elapsed = time.perf_counter() - start
+        cpu = time.process_time()
+        time.sleep(1.0)
+        # What the process burns in the second after: the runs were stopped, not left behind.
+        return elapsed, time.process_time() - cpu
+    raise SystemExit("the call ended without KeyboardInterrupt")
+
+# Each a minute or more uninterrupted: 100 cells of 10^7 steps.
+spec = {"system": "knife_edge", "methods": ["dd"], "step": 1e-5, "t_end": 100, "points": 10,
+        "axes": [{"path": "params.epsilon", "linspace": [0.01, 0.5, 100]}]}
+print(json.dumps({
+    "request": interrupted(lambda: nhlab.sweep(spec)),
+    "shard": interrupted(lambda: _nhlab.shard(json.dumps(spec), 0, 1, 2)),
+    "after": nhlab.simulate("knife_edge", t_end=1, methods=["leapfrog"]).runs[0].status,
+}))
+"""
+
+
+def test_ctrl_c_stops_a_long_call_and_its_runs():
+    out = subprocess.run([sys.executable, "-c", INTERRUPTED], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr[-2000:]
+    result = json.loads(out.stdout)
+    for call in ("request", "shard"):
+        elapsed, cpu_after = result[call]
+        assert elapsed < 3.0, (call, elapsed)
+        assert cpu_after < 0.3, (call, cpu_after)
+    assert result["after"] == "ok"

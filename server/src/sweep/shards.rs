@@ -190,7 +190,7 @@ pub fn run(text: &str, file: &str, opts: &Options) -> Result<Report, ShardError>
     let todo: Vec<usize> =
         mine.iter().copied().filter(|c| kept.binary_search(c).is_err()).collect();
     let out_path = opts.out.clone().unwrap_or_else(|| "-".into());
-    compute(&sweep, &todo, opts.threads, |cell| {
+    compute(&sweep, &todo, opts.threads, &Cancel::default(), |cell| {
         let mut text = String::new();
         for row in &cell.rows {
             text += &serde_json::to_string(row).map_err(|e| format_error(file, &e))?;
@@ -204,16 +204,18 @@ pub fn run(text: &str, file: &str, opts: &Options) -> Result<Report, ShardError>
 }
 
 /// Computes `cells` of `sweep` on `threads` workers, handing each cell to `write` as it
-/// completes (on this thread).
+/// completes (on this thread). Setting `cancel` (from another thread) stops the runs in
+/// flight and the cells not started; neither is handed to `write`.
 pub fn compute(
     sweep: &Sweep,
     cells: &[usize],
     threads: usize,
+    cancel: &Cancel,
     mut write: impl FnMut(SweepCell) -> Result<(), ShardError>,
 ) -> Result<(), ShardError> {
     let caches = Caches::default();
     let axis = |scene: &nhlab_core::Scene| caches.latitude(scene);
-    let (next, cancel) = (AtomicUsize::new(0), Cancel::default());
+    let next = AtomicUsize::new(0);
     std::thread::scope(|scope| {
         let (tx, rx) = mpsc::sync_channel::<SweepCell>(64);
         for _ in 0..threads.clamp(1, cells.len().max(1)) {
