@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The Python package's tests (python/tests, pytest): the extension built in the test profile
-# (it reuses what `cargo test` built: seconds, where a release wheel takes minutes) and loaded
+# (it reuses what `cargo test` built: under a minute, where a release wheel takes minutes) and loaded
 # from a temporary copy of the package, against the server binary of the same build. Installs
 # pytest, numpy, pandas and Dask with pip if they are missing; `pip install ./python` builds
 # the release wheel a user installs (docs/python.md).
@@ -10,8 +10,10 @@ if ! python3 -c 'import numpy, pytest, pandas, distributed' 2>/dev/null; then
     python3 -m pip install --quiet "numpy>=1.24" "pytest>=8" "pandas>=2" "dask[distributed]>=2024.1"
 fi
 export PYO3_PYTHON="$(command -v python3)"
-cargo build --quiet --profile test -p nhlab-python --lib
-cargo build --quiet --profile test -p nhlab-server --bin nhlab
+# The whole workspace with its tests, as `cargo test --workspace` builds it, so that features
+# unify as they did there: only the extension itself is new (`-p nhlab-python` alone would
+# rebuild the server and its HTTP stack with other features, minutes).
+cargo build --quiet --profile test --workspace --lib --bins --tests
 target="${CARGO_TARGET_DIR:-target}/debug"
 package=$(mktemp -d)
 trap 'rm -rf "$package"' EXIT

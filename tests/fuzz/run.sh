@@ -21,8 +21,10 @@ if ! command -v schemathesis >/dev/null || [[ $(schemathesis --version) != *"$SC
     python3 -m pip install --quiet "schemathesis==$SCHEMATHESIS_VERSION"
 fi
 
-# The test profile (optimized, debug assertions on) is the one `cargo test` already built.
-cargo build --quiet --profile test -p nhlab-server --bin nhlab
+# The test profile (optimized, debug assertions on) as `cargo test --workspace` builds it: the
+# whole workspace with its tests, so that features unify as they did there and nothing is
+# rebuilt (`-p nhlab-server` alone would rebuild the server and its HTTP stack).
+cargo build --quiet --profile test --workspace --lib --bins --tests
 binary="${CARGO_TARGET_DIR:-target}/debug/nhlab"
 
 work=$(mktemp -d)
