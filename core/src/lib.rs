@@ -34,6 +34,7 @@ pub use catalogue::scene::{
 pub use error::{InputError, RunError, Short, StepFailure};
 pub use measure::bucket::{Bucket, Bucketer};
 pub use measure::classify::{Verdict, VerdictKind, classify};
+pub use measure::gap::{Gap, GapReason};
 pub use measure::integral::Integral;
 pub use measure::properties::Properties;
 pub use measure::simulate::{Collect, Observer, Problem, RunConfig, RunOutcome};

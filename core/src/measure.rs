@@ -6,6 +6,7 @@
 
 pub mod bucket;
 pub mod classify;
+pub mod gap;
 pub mod integral;
 pub mod latitude;
 pub mod properties;

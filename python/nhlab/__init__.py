@@ -81,7 +81,9 @@ def systems():
 class Series:
     """One integral's error |I(t) − I(0)|, downsampled into buckets: `t` (the time of each
     bucket's last sample), `mean` and `max` over it, numpy float64 arrays; `verdict` is
-    exact / bounded / drift with its numbers (a dict, None for an empty series)."""
+    exact / bounded / drift with its numbers (a dict, None for an empty series); `gap` says
+    from when and why the series has no values although the run went on (a dict with
+    `since`, `reason`, `message`; None for a series without one)."""
 
     def __init__(self, data):
         import numpy as np
@@ -90,6 +92,7 @@ class Series:
         col = lambda k: np.array([nan if x is None else x for x in data.get(k, [])], dtype=np.float64)
         self.t, self.mean, self.max = col("t"), col("mean"), col("max")
         self.verdict = data.get("verdict")
+        self.gap = data.get("gap")
 
     def __repr__(self):
         kind = (self.verdict or {}).get("kind")

@@ -23,6 +23,7 @@ class Series:
     mean: npt.NDArray[np.float64]
     max: npt.NDArray[np.float64]
     verdict: dict[str, Any] | None
+    gap: dict[str, Any] | None
 
 class Run:
     method: dict[str, Any]

@@ -339,6 +339,8 @@ async fn stream_equals_json(config: Config, request: Value) -> Streamed {
         assert!(cpu <= wall + 0.002, "run {i}: cpu {cpu} ms, wall {wall} ms");
         let series = run["series"].as_object().unwrap();
         for (integral, s) in series {
+            let gap = event["gaps"].get(integral).cloned().unwrap_or(Value::Null);
+            assert_eq!(gap, s["gap"], "run {i} {integral} gap");
             let got = streamed.series.get(&i).and_then(|r| r.get(integral));
             for column in ["t", "mean", "max"] {
                 let expected = s[column].as_array().unwrap();
@@ -369,6 +371,42 @@ async fn stream_equals_json_in_many_batches() {
 #[tokio::test]
 async fn stream_equals_json_with_the_default_methods() {
     stream_equals_json(Config::default(), json!({"system": "knife_edge"})).await;
+}
+
+/// DLA^0.4 brings the pendulum CVT's passenger to rest within t ≈ 7·10⁴: from there its
+/// latitude `a·u/|u|` is undefined. The series stops at its last value and says why (in JSON
+/// and in the stream alike), and its verdict's numbers are of the values it has.
+#[tokio::test]
+async fn a_series_without_values_to_the_end_says_why() {
+    let request = json!({
+        "system": "cvt_pendulum", "preset": "rotating", "t_end": 300000,
+        "methods": [{"id": "dla", "alpha": 0.4}, "leapfrog"], "integrals": ["latitude"],
+        "points": 200,
+    });
+    let server = TestServer::start().await;
+    let (status, body) = server.post_json("/simulate", &request).await;
+    assert_eq!(status, 200, "{body}");
+    let (dla, lf) = (&body["runs"][0], &body["runs"][1]);
+    assert_eq!(dla["status"], "ok");
+    let latitude = &dla["series"]["latitude"];
+    let gap = &latitude["gap"];
+    assert_eq!(gap["reason"], "passenger_at_rest", "{gap}");
+    let since = gap["since"].as_f64().unwrap();
+    assert!((1e4..2e5).contains(&since), "gap since {since}");
+    assert!(gap["message"].as_str().unwrap().starts_with("no value since t = "), "{gap}");
+    let t = latitude["t"].as_array().unwrap();
+    assert!(!t.is_empty() && t.len() < 200, "{} buckets", t.len());
+    assert_eq!(t.last().unwrap().as_f64(), Some(since));
+    for column in ["t", "mean", "max"] {
+        assert!(latitude[column].as_array().unwrap().iter().all(Value::is_f64), "{column}");
+    }
+    for number in ["max", "early", "late", "ratio"] {
+        assert!(latitude["verdict"][number].is_f64(), "verdict {number}: {}", latitude["verdict"]);
+    }
+    // LF keeps the passenger moving: its latitude has values to the end, and no gap.
+    assert_eq!(lf["series"]["latitude"]["gap"], Value::Null);
+    assert_eq!(lf["series"]["latitude"]["t"].as_array().unwrap().len(), 200);
+    stream_equals_json(Config::default(), request).await;
 }
 
 /// A scene on which some of the paper's methods diverge: their runs fail and keep their

@@ -249,7 +249,13 @@ impl<const N: usize> LatitudeTracker<N> {
         Self { axis, index, sheet, prev_t: 0.0, prev_q: *q, prev_v: *v }
     }
 
-    /// Takes the state after a step; returns `(t, |ℓ − ℓ(0)|)` at a crossing inside the step.
+    /// The exact driver's period (from the section back to it).
+    pub fn period(&self) -> f64 {
+        self.axis.period
+    }
+
+    /// Takes the state after a step; returns `(t, |ℓ − ℓ(0)|)` at a crossing inside the step
+    /// (NaN where `u = 0`: the latitude is undefined there).
     #[inline]
     pub fn observe<S: System<N, R>, const R: usize>(
         &mut self,

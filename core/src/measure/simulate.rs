@@ -13,7 +13,7 @@ use crate::measure::latitude::{LatitudeAxis, LatitudeTracker};
 use crate::methods::integrator::Stepper;
 use crate::methods::memory::{Memory, Recall, driver_potential_and_constraint};
 use crate::model::system::System;
-use crate::{Bucket, Bucketer, Integral, RunError, State, StepFailure};
+use crate::{Bucket, Bucketer, Gap, GapReason, Integral, RunError, State, StepFailure};
 use std::ops::ControlFlow;
 
 /// Watches a run (argmin-style observer): receives completed buckets and progress, and may
@@ -23,6 +23,9 @@ pub trait Observer {
     fn initial(&mut self, _integral: Integral, _value: f64) {}
     /// A completed bucket of one integral's error series.
     fn points(&mut self, integral: Integral, bucket: Bucket);
+    /// A series that has no values from some time on, in a run that reached t_end (called
+    /// once per such series, before [`Observer::finish`]).
+    fn gap(&mut self, _integral: Integral, _gap: Gap) {}
     /// The final state of a run that reached t_end (work–precision measures it).
     fn finish(&mut self, _q: &[f64], _v: &[f64]) {}
     /// Called every [`RunConfig::progress_every`] steps; `Break` cancels the run.
@@ -38,6 +41,8 @@ pub struct Collect {
     pub series: std::collections::BTreeMap<Integral, Vec<Bucket>>,
     /// `I(0)` per integral.
     pub initial: std::collections::BTreeMap<Integral, f64>,
+    /// Series' gaps, by integral.
+    pub gaps: std::collections::BTreeMap<Integral, Gap>,
 }
 
 impl Observer for Collect {
@@ -46,6 +51,9 @@ impl Observer for Collect {
     }
     fn points(&mut self, integral: Integral, bucket: Bucket) {
         self.series.entry(integral).or_default().push(bucket);
+    }
+    fn gap(&mut self, integral: Integral, gap: Gap) {
+        self.gaps.insert(integral, gap);
     }
 }
 
@@ -124,6 +132,38 @@ fn index_of(integral: Integral) -> usize {
     }
 }
 
+/// The latitude's last value and whether the crossings since had none ([`Gap`]).
+#[derive(Debug, Clone, Copy, Default)]
+struct Trail {
+    last: f64,
+    undefined: bool,
+}
+
+impl Trail {
+    /// Notes a crossing's value; whether it is defined (an undefined one is left out).
+    #[inline]
+    fn defined(&mut self, t: f64, value: f64) -> bool {
+        self.undefined = !value.is_finite();
+        if !self.undefined {
+            self.last = t;
+        }
+        !self.undefined
+    }
+
+    /// The gap at the end of a run to `t_end`, if the series has one: the last crossings'
+    /// values undefined, or no crossing in the last two driver periods.
+    fn gap(&self, t_end: f64, period: f64) -> Option<Gap> {
+        let reason = if self.undefined {
+            GapReason::PassengerAtRest
+        } else if t_end - self.last > 2.0 * period {
+            GapReason::NoCrossing
+        } else {
+            return None;
+        };
+        Some(Gap { since: self.last, reason })
+    }
+}
+
 /// Runs `method` on `problem`, streaming to `observer`.
 pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
     problem: &Problem<'_, S, N, R>,
@@ -163,7 +203,7 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
             observer.initial(Integral::Latitude, axis.latitude0);
             let planned = axis.crossings_until(problem.steps as f64 * h);
             let tracker = LatitudeTracker::new(axis, &problem.start.q, &problem.start.v);
-            (tracker, Bucketer::new(planned, cfg.points))
+            (tracker, Bucketer::new(planned, cfg.points), Trail::default())
         });
     let every = cfg.progress_every.max(1);
     // A countdown rather than `k % every`: no division per step.
@@ -198,8 +238,9 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
                 observer.points(integral, b[lane]);
             }
         }
-        if let Some((tracker, buckets)) = latitude.as_mut()
+        if let Some((tracker, buckets, trail)) = latitude.as_mut()
             && let Some((tc, e)) = tracker.observe(sys, t, &st.q_with_turns(turns), &st.v)
+            && trail.defined(tc, e)
             && let Some(b) = buckets.push(tc, e)
         {
             observer.points(Integral::Latitude, b);
@@ -216,11 +257,42 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
             observer.points(integral, b[lane]);
         }
     }
-    if let Some((_, buckets)) = latitude.as_mut()
-        && let Some(b) = buckets.finish()
-    {
-        observer.points(Integral::Latitude, b);
+    if let Some((tracker, buckets, trail)) = latitude.as_mut() {
+        if let Some(b) = buckets.finish() {
+            observer.points(Integral::Latitude, b);
+        }
+        let period = tracker.period();
+        if let Some(gap) = trail.gap(problem.steps as f64 * h, period) {
+            observer.gap(Integral::Latitude, gap);
+        }
     }
     observer.finish(st.q_with_turns(turns).as_slice(), st.v.as_slice());
     RunOutcome { steps: problem.steps, error: None }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_trail_reports_a_gap_only_where_values_stop_before_the_end() {
+        let period = 10.0;
+        let mut trail = Trail::default();
+        assert!(trail.defined(10.0, 0.1) && trail.defined(20.0, 0.2));
+        // Crossings up to the last period: no gap.
+        assert_eq!(trail.gap(35.0, period), None);
+        // None in the last two periods and more: the driver stopped returning.
+        let gap = trail.gap(45.0, period);
+        assert_eq!(gap, Some(Gap { since: 20.0, reason: GapReason::NoCrossing }));
+        // Undefined values at the last crossings: left out, and the passenger is at rest.
+        assert!(!trail.defined(30.0, f64::NAN));
+        let gap = trail.gap(35.0, period);
+        assert_eq!(gap, Some(Gap { since: 20.0, reason: GapReason::PassengerAtRest }));
+        // A value again: the gap closes.
+        assert!(trail.defined(40.0, 0.3));
+        assert_eq!(trail.gap(45.0, period), None);
+        // No crossing at all in a long run: a gap since 0.
+        let gap = Trail::default().gap(100.0, period);
+        assert_eq!(gap, Some(Gap { since: 0.0, reason: GapReason::NoCrossing }));
+    }
 }

@@ -7,7 +7,7 @@
 use crate::compute::Cancel;
 use crate::observers::Verdicts;
 use crate::views::SeriesView;
-use nhlab_core::{Bucket, Integral, Observer};
+use nhlab_core::{Bucket, Gap, Integral, Observer};
 use std::collections::BTreeMap;
 use std::ops::ControlFlow;
 
@@ -37,6 +37,7 @@ impl JsonCollector {
                     series.push(b);
                 }
                 series.verdict = Some(self.verdicts.of(i));
+                series.gap = Some(self.verdicts.gap_of(i));
                 (i.id().to_owned(), series)
             })
             .collect()
@@ -50,6 +51,10 @@ impl Observer for JsonCollector {
 
     fn points(&mut self, integral: Integral, bucket: Bucket) {
         self.verdicts.push(integral, bucket);
+    }
+
+    fn gap(&mut self, integral: Integral, gap: Gap) {
+        self.verdicts.gap(integral, gap);
     }
 
     fn progress(&mut self, _steps_done: u64, _t: f64) -> ControlFlow<()> {

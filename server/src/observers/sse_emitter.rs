@@ -8,9 +8,9 @@
 
 use crate::compute::Cancel;
 use crate::observers::{Verdicts, sse_event};
-use crate::views::{PointsEvent, ProgressEvent, SeriesView, VerdictView};
+use crate::views::{GapView, PointsEvent, ProgressEvent, SeriesView, VerdictView};
 use axum::response::sse::Event;
-use nhlab_core::{Bucket, Integral, Observer};
+use nhlab_core::{Bucket, Gap, Integral, Observer};
 use std::collections::BTreeMap;
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
@@ -82,6 +82,11 @@ impl SseEmitter {
         self.verdicts.all()
     }
 
+    /// The gap of every series that has one (by integral id), once the run has ended.
+    pub fn gaps(&self) -> BTreeMap<String, GapView> {
+        self.verdicts.gaps()
+    }
+
     /// Sends an event, waiting while the channel is full (the client reads slowly), but not
     /// past a cancellation (the server shutting down, the client gone): false then.
     fn send(&self, mut ev: Event) -> bool {
@@ -116,6 +121,10 @@ impl Observer for SseEmitter {
                 self.pending.push((integral, series));
             }
         }
+    }
+
+    fn gap(&mut self, integral: Integral, gap: Gap) {
+        self.verdicts.gap(integral, gap);
     }
 
     fn progress(&mut self, steps_done: u64, t: f64) -> ControlFlow<()> {

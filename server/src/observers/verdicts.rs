@@ -1,9 +1,9 @@
 //! [`Verdicts`]: a run's series kept whole, with their initial values, to classify each one
-//! ([`VerdictView`]) once the run has ended: a verdict needs the whole series. Both observers
-//! keep one.
+//! ([`VerdictView`]) once the run has ended: a verdict needs the whole series; and their
+//! gaps ([`GapView`]). Both observers keep one.
 
-use crate::views::VerdictView;
-use nhlab_core::{Bucket, Integral, classify};
+use crate::views::{GapView, VerdictView};
+use nhlab_core::{Bucket, Gap, Integral, classify};
 use std::collections::BTreeMap;
 
 /// A run's series kept whole for their verdicts, by integral (an array indexed by the
@@ -12,6 +12,7 @@ use std::collections::BTreeMap;
 pub struct Verdicts {
     initial: [Option<f64>; Integral::ALL.len()],
     buckets: [Vec<Bucket>; Integral::ALL.len()],
+    gaps: [Option<Gap>; Integral::ALL.len()],
 }
 
 impl Verdicts {
@@ -23,6 +24,21 @@ impl Verdicts {
     /// Records a bucket.
     pub fn push(&mut self, integral: Integral, bucket: Bucket) {
         self.buckets[integral as usize].push(bucket);
+    }
+
+    /// Records a series' gap.
+    pub fn gap(&mut self, integral: Integral, gap: Gap) {
+        self.gaps[integral as usize] = Some(gap);
+    }
+
+    /// The gap of one series, if it has one.
+    pub fn gap_of(&self, integral: Integral) -> Option<GapView> {
+        self.gaps[integral as usize].map(GapView::from)
+    }
+
+    /// Every series' gap, by integral id (only those that have one).
+    pub fn gaps(&self) -> BTreeMap<String, GapView> {
+        Integral::ALL.iter().filter_map(|&i| Some((i.id().to_owned(), self.gap_of(i)?))).collect()
     }
 
     /// The buckets of one series (empty if it has none).

@@ -167,7 +167,8 @@ async fn run(
                     method.label
                 ))
             })?;
-            out.push(ScorecardRun { summary, verdicts: finished.observer.verdicts.all() });
+            let verdicts = &finished.observer.verdicts;
+            out.push(ScorecardRun { summary, verdicts: verdicts.all(), gaps: verdicts.gaps() });
         }
         let measured = measure.await.map_err(|e| {
             AppError::internal(format!("internal error: measuring properties on {id}: {e}"))

@@ -85,7 +85,12 @@ async fn coordinate(
         let (events, status) = joined.unwrap_or_else(|e| {
             let method = plan.scene.methods[i].clone();
             let summary = RunSummary::failed(method, format!("internal error: {e}"), 0.0, None);
-            let run = RunEvent { run: i, summary, verdicts: Default::default() };
+            let run = RunEvent {
+                run: i,
+                summary,
+                verdicts: Default::default(),
+                gaps: Default::default(),
+            };
             (vec![sse_event("run", &run)], Status::Failed)
         });
         failed += usize::from(status == Status::Failed);
@@ -119,12 +124,12 @@ fn last_events(
     let mut events = finished.observer.take_points();
     let ended = finished.outcome.as_ref().ok().map(|o| (o.steps, o.steps as f64 * step));
     events.push(finished.observer.final_progress(ended));
-    let verdicts = finished.observer.verdicts();
+    let (verdicts, gaps) = (finished.observer.verdicts(), finished.observer.gaps());
     let summary = finished.summary(method.clone()).unwrap_or_else(|panic| {
         let error = format!("internal error: the simulation panicked: {panic}");
         RunSummary::failed(method, error, finished.elapsed_ms, finished.cpu_ms)
     });
     let status = summary.status;
-    events.push(sse_event("run", &RunEvent { run: finished.index, summary, verdicts }));
+    events.push(sse_event("run", &RunEvent { run: finished.index, summary, verdicts, gaps }));
     (events, status)
 }

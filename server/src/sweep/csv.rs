@@ -1,7 +1,8 @@
 //! A sweep's rows as CSV (RFC 4180): one header line, then one line per row with the same
 //! numbers as the JSON rows (written as JSON writes them), a verdict's numbers in columns
-//! `<integral>.kind`, `.max`, `.early`, `.late`, `.ratio`, the method's label under `method`
-//! and the row's `/simulate` body as JSON text in the last column. Nulls are empty fields.
+//! `<integral>.kind`, `.max`, `.early`, `.late`, `.ratio`, a gap's start in
+//! `<integral>.gap_since` (empty without one), the method's label under `method` and the
+//! row's `/simulate` body as JSON text in the last column. Nulls are empty fields.
 //! Rows come as JSON values, so that merged shard files are written by the same code.
 
 use serde_json::Value;
@@ -20,6 +21,7 @@ pub fn write(axes: &[String], integrals: &[String], rows: impl Iterator<Item = V
     );
     for i in integrals {
         header.extend(VERDICT.iter().map(|f| format!("{i}.{f}")));
+        header.push(format!("{i}.gap_since"));
     }
     header.push("simulate".into());
     line(&mut out, header.iter().map(|h| field(h)));
@@ -36,6 +38,7 @@ pub fn write(axes: &[String], integrals: &[String], rows: impl Iterator<Item = V
         for i in integrals {
             let verdict = &row["verdicts"][i.as_str()];
             fields.extend(VERDICT.iter().map(|f| scalar(&verdict[*f])));
+            fields.push(scalar(&row["gaps"][i.as_str()]["since"]));
         }
         fields.push(row["simulate"].to_string());
         line(&mut out, fields.iter().map(|f| field(f)));
@@ -78,6 +81,7 @@ mod tests {
             "status": "failed", "error": "step 7 at t = 0.06: diverged, \"too large\"",
             "steps": 6, "cpu_ms": null, "newton_iterations": 12,
             "verdicts": {"energy": {"kind": "drift", "max": 1.5e-3, "early": 1e-4, "late": 1e-3, "ratio": 10.0}},
+            "gaps": {"constraint": {"since": 2.5, "reason": "no_crossing", "message": "…"}},
             "simulate": {"system": "cvt", "step": 0.01}
         });
         let text = write(
@@ -89,13 +93,14 @@ mod tests {
         assert_eq!(
             lines[0],
             "cell,params.epsilon,step,method_index,method,status,error,steps,cpu_ms,newton_iterations,\
-             energy.kind,energy.max,energy.early,energy.late,energy.ratio,constraint.kind,\
-             constraint.max,constraint.early,constraint.late,constraint.ratio,simulate"
+             energy.kind,energy.max,energy.early,energy.late,energy.ratio,energy.gap_since,\
+             constraint.kind,constraint.max,constraint.early,constraint.late,constraint.ratio,\
+             constraint.gap_since,simulate"
         );
         assert_eq!(
             lines[1],
             "3,0.5,0.01,1,DLA^0.4,failed,\"step 7 at t = 0.06: diverged, \"\"too large\"\"\",6,,12,\
-             drift,0.0015,0.0001,0.001,10.0,,,,,,\"{\"\"step\"\":0.01,\"\"system\"\":\"\"cvt\"\"}\""
+             drift,0.0015,0.0001,0.001,10.0,,,,,,,2.5,\"{\"\"step\"\":0.01,\"\"system\"\":\"\"cvt\"\"}\""
         );
     }
 }

@@ -62,6 +62,7 @@ impl Sweep {
                 cpu_ms: None,
                 newton_iterations: None,
                 verdicts: BTreeMap::new(),
+                gaps: BTreeMap::new(),
                 simulate: self.echo(c, request, method.as_ref().ok()),
             };
             match (&prepared, method) {
@@ -88,6 +89,7 @@ impl Sweep {
                             row.steps = outcome.steps;
                             row.newton_iterations = method.info().implicit.then_some(iterations);
                             row.verdicts = collector.verdicts.all();
+                            row.gaps = collector.verdicts.gaps();
                         }
                         Err(_) => {
                             tracing::error!(cell = c, method = i, "a sweep's run panicked");

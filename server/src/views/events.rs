@@ -6,7 +6,7 @@
 //!
 //! [`SceneView`]: crate::views::SceneView
 
-use crate::views::{RunSummary, SeriesView, VerdictView};
+use crate::views::{GapView, RunSummary, SeriesView, VerdictView};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use utoipa::ToSchema;
@@ -47,6 +47,9 @@ pub struct RunEvent {
     /// The verdict of each series, by integral (they need the whole series, so they come
     /// here rather than with the `points`).
     pub verdicts: BTreeMap<String, VerdictView>,
+    /// The gap of each series that has one, by integral: no values from `since` on although
+    /// the run went on (its verdict is of the values before).
+    pub gaps: BTreeMap<String, GapView>,
 }
 
 /// `done`: every run has ended; the stream closes.

@@ -7,6 +7,7 @@
 //! verdicts, in the stream) and [`ScorecardRun`] (with its verdicts, in the scorecard).
 
 mod events;
+mod gap;
 mod health;
 mod method;
 mod run;
@@ -22,6 +23,7 @@ mod verdict;
 mod work_precision;
 
 pub use events::{DoneEvent, PointsEvent, ProgressEvent, RunEvent, ShutdownEvent};
+pub use gap::GapView;
 pub use health::{CacheStats, CachesStats, Health};
 pub use method::MethodView;
 pub use run::RunView;

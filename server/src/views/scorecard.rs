@@ -2,7 +2,7 @@
 //! [`ScorecardScene`]s and [`ScorecardRun`]s (a [`RunSummary`] and its verdicts), and each
 //! method's [`PropertiesView`] on each scene, measured as [`PROPERTIES_TEST`] says.
 
-use crate::views::{MethodView, RunSummary, SceneView, VerdictView};
+use crate::views::{GapView, MethodView, RunSummary, SceneView, VerdictView};
 use nhlab_core::{Properties, StepFailure};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -42,6 +42,8 @@ pub struct ScorecardRun {
     pub summary: RunSummary,
     /// The verdict of each integral's error series (up to the failure for a failed run).
     pub verdicts: BTreeMap<String, VerdictView>,
+    /// The gap of each series that has one (no values from `since` on), by integral.
+    pub gaps: BTreeMap<String, GapView>,
 }
 
 /// A method's measured properties on one scene (from its start, with its step).

@@ -1,9 +1,9 @@
 //! [`SeriesView`]: one integral's error series as columns `t`, `mean`, `max` (the core's
 //! buckets). Non-finite values (a diverging run) are written as JSON `null`. In the JSON
 //! response each series also carries its [`VerdictView`]; a stream's `points` events carry
-//! none (the `run` event has the verdicts, which need the whole series).
+//! none (the `run` event has the verdicts, which need the whole series), and no gap.
 
-use crate::views::VerdictView;
+use crate::views::{GapView, VerdictView};
 use nhlab_core::Bucket;
 use serde::Serialize;
 use utoipa::ToSchema;
@@ -22,6 +22,11 @@ pub struct SeriesView {
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schema(value_type = Option<VerdictView>)]
     pub verdict: Option<Option<VerdictView>>,
+    /// Why the series has no values from some time on although its run went on (JSON
+    /// response only: null for a series without one; left out of `points` events).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<GapView>)]
+    pub gap: Option<Option<GapView>>,
 }
 
 fn finite(x: f64) -> Option<f64> {
@@ -36,6 +41,7 @@ impl SeriesView {
             mean: Vec::with_capacity(n),
             max: Vec::with_capacity(n),
             verdict: None,
+            gap: None,
         }
     }
 

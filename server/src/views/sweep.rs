@@ -5,7 +5,7 @@
 //! `done` ([`SweepDone`]).
 
 use crate::request::SystemField;
-use crate::views::{MethodView, VerdictView};
+use crate::views::{GapView, MethodView, VerdictView};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use utoipa::ToSchema;
@@ -80,6 +80,8 @@ pub struct SweepRow {
     pub newton_iterations: Option<u64>,
     /// Each measured series' verdict, by integral (none for a series without values).
     pub verdicts: BTreeMap<String, VerdictView>,
+    /// The gap of each series that has one (no values from `since` on), by integral.
+    pub gaps: BTreeMap<String, GapView>,
     /// The `/simulate` body that runs this row on its own (its series are one request away).
     pub simulate: SimulateEcho,
 }

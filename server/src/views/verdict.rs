@@ -13,7 +13,9 @@ pub const CRITERION: &str = "exact: the largest error stays at round-off, \
     bounded otherwise. A bounded error reaches its full oscillation within a period or two and \
     its later mean stays below that early maximum; a growing error ends above anything it \
     reached early. The constraint residual is measured against 0, the latitude over its section \
-    crossings. For a failed run, the verdict is of the series up to the failure.";
+    crossings. For a failed run, the verdict is of the series up to the failure; for a series \
+    with a gap (no values from some time on: the latitude with the passenger at rest or no \
+    more section crossings), of its values before the gap.";
 
 /// A series' verdict.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, ToSchema)]
