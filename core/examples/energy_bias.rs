@@ -2,7 +2,7 @@
 //! general path, whole turns taken off ζ as the driver does), one step of each method's fast
 //! path and one of its general path, and the mean over the states of each step's energy
 //! change `ΔH / (½|q̇|² + |V|)` (relative to the size of H's terms at the step's start, as
-//! `tests/fast_path.rs` asserts it for DD and DD-AVF). A mean above round-off's (~10⁻¹⁸ per
+//! `tests/it/fast_path.rs` asserts it for DD and DD-AVF). A mean above round-off's (~10⁻¹⁸ per
 //! step) is a bias: over 10⁸ steps it grows linearly, where unbiased rounding grows like √N.
 //! The mean difference of the two steps' `q̇·δq̇` and `∇V·δq`, component by component (same
 //! scale), says where it sits: driver or passenger, velocity or position. This found the two

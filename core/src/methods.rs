@@ -5,7 +5,7 @@
 //! API, the dispatch, the tests' cross products and `GET /systems` (hence the page) all use.
 //! Each method is a small config struct implementing [`Integrator`]; what it carries from
 //! step to step is its own [`Memory`]. Fast paths sit beside their general path, in the
-//! method's file or folder, and are tested against it (`tests/fast_path.rs`).
+//! method's file or folder, and are tested against it (`tests/it/fast_path.rs`).
 
 pub mod composition;
 pub mod coupled;

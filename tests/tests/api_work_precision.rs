@@ -107,7 +107,7 @@ async fn levels_halve_the_scenes_step_and_default_to_four() {
 #[tokio::test]
 async fn a_failed_row_has_no_final_error() {
     let server = TestServer::start().await;
-    // h = 2.5 on the CVT: the leap-frog diverges (core/tests/work_precision.rs).
+    // h = 2.5 on the CVT: the leap-frog diverges (core/tests/it/work_precision.rs).
     let body = json!({"system": "cvt", "t_end": 1000, "steps": [2.5], "methods": ["leapfrog"],
                       "repeats": 1});
     let (status, wp) = server.post_json("/work-precision", &body).await;

@@ -10,7 +10,7 @@
 //! rotating driver otherwise reaches ζ ≈ 7000 on the paper's rotating CVT: each step then
 //! rounds ζ to 10⁻¹², and a relative tolerance on ζ lets 10⁻⁹ per step through; together
 //! they held the reference at ~10⁻⁷ at t = 3000, where this one agrees with tighter solves to
-//! ~10⁻⁹ (`core/tests/reference.rs`).
+//! ~10⁻⁹ (`tests/it/reference.rs`).
 //!
 //! Memory does not grow with the number of steps. Dop853 keeps every accepted step in its
 //! output (its dense mode, which keeps fewer, costs three more evaluations per step and misplaces

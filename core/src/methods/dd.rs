@@ -13,7 +13,7 @@
 //!   form.
 //!
 //! The fast paths give the same steps to round-off and are tested against the general path
-//! (`tests/fast_path.rs`).
+//! (`tests/it/fast_path.rs`).
 
 pub(crate) mod closed_form;
 pub(crate) mod driver_history;

@@ -85,7 +85,7 @@ pub struct SystemInfo {
 }
 
 /// A built-in system written as formulas, as a user would give it: the same numbers to
-/// round-off (`tests/formula_systems.rs`).
+/// round-off (`tests/it/formula_systems.rs`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FormulaForm {
     /// Passenger coordinate names.
@@ -210,7 +210,7 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     /// Whether `U` is quadratic in x (`∇U` affine, `∇²U` constant), as for every test system
     /// of `docs/model.md` §1. The coupled fast paths of the implicit methods rely on it (with the
     /// driver solved alone, the passenger update is then one linear solve), and DD and DD-AVF
-    /// skip what it makes zero in their discrete gradients. Checked in `tests/derivatives.rs`.
+    /// skip what it makes zero in their discrete gradients. Checked in `tests/it/derivatives.rs`.
     /// A method of `&self` rather than a constant, as a system given as formulas knows it
     /// only once compiled; a built-in's answer is a constant the compiler folds.
     fn quadratic_passenger(&self) -> bool {
@@ -224,7 +224,8 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
         false
     }
     /// Whether the passenger feels no potential (`U ≡ 0`). DD's step then reduces to one
-    /// equation in the driver's speed (`methods::dd::reduced`). Checked in `tests/derivatives.rs`.
+    /// equation in the driver's speed (`methods::dd::reduced`). Checked in
+    /// `tests/it/derivatives.rs`.
     fn free_passenger(&self) -> bool {
         false
     }

@@ -128,7 +128,7 @@ pub fn solve<const N: usize, const R: usize>(
             // quadratic regime (the rest enters linearly). Where δ_k is mostly the passenger's
             // and λ's, this is ~100× below δ_k³/δ_{k−1}², and in practice it saves the third
             // iteration of DLA^0.5 on most steps of the rotating CVT
-            // (`core/tests/newton_stopping.rs` checks the steps it stops at).
+            // (`tests/it/newton_stopping.rs` checks the steps it stops at).
             (increment * (increment / previous) * (driver / previous_driver), driver)
         } else {
             (NewtonConfig::left_after(increment, previous), increment)

@@ -112,7 +112,7 @@ fn gonzalez_value<S: System<N, R>, const N: usize, const R: usize>(
 /// absolute value, is its own rounding (c is O(|Δq|³), the rounding of its difference
 /// O(ε|V|)). Such a c carries no value, and divided by |Δq|² it does not stay small: at rest at
 /// an equilibrium DD's Jacobian came out singular, where every other method stays at rest
-/// (`tests/at_rest.rs`). There the gradient is `∇V(q̄)`, which c changes by less than the
+/// (`tests/it/at_rest.rs`). There the gradient is `∇V(q̄)`, which c changes by less than the
 /// rounding of V.
 #[inline]
 fn is_rounding(c: f64, size: f64) -> bool {

@@ -28,14 +28,14 @@
 //! energy balance, that rounding made DD's energy drift on the knife edge, `dd_roundoff`).
 //! The w of that linearization is the closed form's, whose rounding Newton in σ never sees:
 //! with `a` rounded near 2 (`|k̃|² = 2` on the disk) it biased DD's energy by 3·10⁻¹⁷ of H per
-//! step (`tests/fast_path.rs`). So w's increment is the one a two-unknown Newton step would
+//! step (`tests/it/fast_path.rs`). So w's increment is the one a two-unknown Newton step would
 //! take, from the projection `k̃·(s m − 2q̇₀)` of the residual at the linearization as
 //! computed: unbiased (4·10⁻¹⁸), off the iteration's chain. `k̃` is not normalized: its
 //! components are the cross product of A's two rows, so no square root enters but the one
-//! above. Same steps as the general path to 10⁻¹³ (`tests/fast_path.rs`). Near rest at an
+//! above. Same steps as the general path to 10⁻¹³ (`tests/it/fast_path.rs`). Near rest at an
 //! equilibrium c is its own rounding and E → 0, so `8c/E` has no meaning and this solve no
 //! root: it fails, and DD takes the general solve, which drops such a c (`dd::is_rounding`,
-//! `tests/at_rest.rs`).
+//! `tests/it/at_rest.rs`).
 
 use super::memory::DdMemory;
 use crate::solver::angle_tracker::AngleTracker;
@@ -59,7 +59,7 @@ pub(crate) fn applies<S: System<N, R>, const N: usize, const R: usize>(sys: &S) 
 /// linearly, leaving an error of order `C δ²` with C ≈ 10⁻³. At h = 0.1 Newton's second
 /// increments stay below ~2·10⁻¹¹, but it accepts ~0.1 % of steps after one iteration, whose
 /// increments reach 2·10⁻⁷; at h = 0.3 its second increments reach 2·10⁻⁶, and without this
-/// bound DD's energy drifted there by 3·10⁻¹⁵ of H per step (`tests/fast_path.rs`).
+/// bound DD's energy drifted there by 3·10⁻¹⁵ of H per step (`tests/it/fast_path.rs`).
 const LINEAR_MAX: f64 = 1e-9;
 
 /// What the last linearization computed, from which the step's q̇₁ follows.
