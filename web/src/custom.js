@@ -91,7 +91,8 @@ export function sceneCaption(scene, catalog) {
     custom ? `${systemName(scene.system, catalog)} (custom)` : systemName(scene.system, catalog),
     preset ? presetLabel(preset) : '',
     ...shown.map(([k, v]) => `${k} = ${v}`),
-    Number.isFinite(scene.step) ? `h = ${scene.step}` : '',
+    // π/10 reads 0.314159, not 0.3141592653589793.
+    Number.isFinite(scene.step) ? `h = ${Number(scene.step.toPrecision(6))}` : '',
     Number.isFinite(scene.t_end) ? `t_end = ${scene.t_end}` : '',
   ]
     .filter(Boolean)

@@ -8,8 +8,11 @@ import { defaultWindow, findPreset, findSystem } from './catalog.js';
 import { CUSTOM, customIntegrals, isCustom, startingPoints } from './custom.js';
 import { Editor } from './editor.js';
 import { parseList } from './state.js';
-import { runColor } from './plots.js';
+import { methodStyle } from './palette.js';
+import { swatch } from './markers.js';
 import { el, option } from './dom.js';
+import { humanLabel } from './labels.js';
+import { INTEGRAL_NAME } from './verdicts.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -19,7 +22,7 @@ export class Form {
     this.el = $('form');
     $('system').replaceChildren(...catalog.systems.map((s) => option(s.id, s.name)), option(CUSTOM, 'Custom system (formulas)…'));
     $('custom-start').replaceChildren(option('', 'Pick a built-in system…'), ...startingPoints(catalog).map((s) => option(s.id, s.name)));
-    $('add-method-id').replaceChildren(...catalog.methods.map((m) => option(m.id, m.name)));
+    $('add-method-id').replaceChildren(...catalog.methods.map((m) => option(m.id, humanLabel(m.name))));
     this.editor = new Editor({ maxParameters: catalog.limits?.formula_parameters });
     // Editing the custom system's shape changes the integrals it may have and q's size.
     $('custom-editor').addEventListener('change', () => {
@@ -53,7 +56,10 @@ export class Form {
       );
       $('preset').value = state.preset;
       this.#params(system, state.params);
-      this.#placeholders(`${system.dof} numbers`, '', '');
+      // An empty step or final time runs the preset's: the placeholders show its values.
+      const preset = findPreset(system, state.preset);
+      const shown = (v) => (Number.isFinite(v) ? `${Number(v.toPrecision(6))} (preset)` : '');
+      this.#placeholders(`${system.dof} numbers`, shown(preset?.step), shown(preset?.t_end));
       this.#integrals(system.integrals, state.integrals);
     }
     $('q').value = state.q.map(String).join(', ');
@@ -81,7 +87,7 @@ export class Form {
     box.dataset.id = id;
     box.setAttribute('aria-label', `use ${info.name}`);
     const swatch = el('span', 'swatch');
-    const name = el('span', 'method-name', info.name);
+    const name = el('span', 'method-name', humanLabel(info.name));
     name.title = [info.name, info.order ? `order ${info.order}` : '', info.reference].filter(Boolean).join(' · ');
     row.append(box, swatch, name);
     for (const p of info.params ?? []) {
@@ -153,7 +159,9 @@ export class Form {
         box.name = 'integral';
         box.value = id;
         box.checked = checked.includes(id);
-        label.append(box, document.createTextNode(` ${id}`));
+        // The integral's name, its API id on hover (what a link or a script writes).
+        label.title = id;
+        label.append(box, document.createTextNode(` ${INTEGRAL_NAME[id] ?? id}`));
         return label;
       }),
     );
@@ -257,13 +265,13 @@ export class Form {
   }
 
   // Rows are numbered as the request numbers methods: enabled rows only, in order. Swatches
-  // show the colour each enabled method will be drawn in.
+  // show the line and marker each enabled method will be drawn with.
   #numberRows() {
     let i = 0;
     for (const row of $('methods').querySelectorAll('.method-row')) {
       const on = row.querySelector('.method-on').checked;
       row.classList.toggle('off', !on);
-      row.querySelector('.swatch').style.background = on ? runColor(i) : 'transparent';
+      this.#swatch(row, on);
       if (on) {
         row.dataset.path = `methods[${i}]`;
         for (const input of row.querySelectorAll('input[data-param]')) {
@@ -276,6 +284,17 @@ export class Form {
         delete row.dataset.path;
       }
     }
+  }
+
+  #swatch(row, on) {
+    const params = {};
+    for (const input of row.querySelectorAll('input[data-param]')) if (input.value !== '') params[input.dataset.param] = Number(input.value);
+    const composition = row.querySelector('select[data-composition]')?.value;
+    const style = methodStyle(this.catalog, { id: row.querySelector('.method-on').dataset.id, params, composition });
+    const box = row.querySelector('.swatch');
+    if (box.dataset.key === `${on}|${JSON.stringify(style)}`) return;
+    box.dataset.key = `${on}|${JSON.stringify(style)}`;
+    box.replaceChildren(...(on ? [swatch(style, { width: 22 })] : []));
   }
 
   /** Call after any change to the method rows. */

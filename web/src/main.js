@@ -8,7 +8,7 @@
 
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
-import { ApiError, fetchCatalog, simulate } from './api.js';
+import { ApiError, fetchCatalog, retrying, simulate } from './api.js';
 import { Form } from './form.js';
 import { PaperView } from './paper.js';
 import { ScorecardView } from './scorecard.js';
@@ -21,6 +21,8 @@ import { defaultWindow, paperExperiments } from './catalog.js';
 import { CUSTOM, customFrom, customIntegrals, isCustom, sceneCaption, systemName } from './custom.js';
 import { decodeState, defaultCustomState, defaultState, encodeState, requestBody } from './state.js';
 import { download } from './dom.js';
+import { fieldLabel, sceneStem } from './labels.js';
+import { progressNote } from './timing.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -30,6 +32,7 @@ let plots;
 let result = null;
 let controller = null;
 let frame = 0;
+let stepNote = ''; // what an empty Step field ran with, for the status
 let view = 'main';
 const views = {};
 
@@ -42,7 +45,7 @@ async function start() {
     return;
   }
   form = new Form(catalog);
-  plots = new Plots($('plots'), { caption: (scene) => sceneCaption(scene, catalog) });
+  plots = new Plots($('plots'), { catalog, caption: (scene) => sceneCaption(scene, catalog), stem: (scene) => sceneStem(scene, catalog) });
   experimentButtons();
   const { state, warnings } = decodeState(location.search, catalog);
   form.fill(state);
@@ -50,7 +53,14 @@ async function start() {
   wire();
   views.scorecard = new ScorecardView($('view-scorecard'), { catalog, onOpen: openScene });
   views.paper = new PaperView($('view-paper'), { catalog });
-  views['work-precision'] = new WorkPrecisionView($('view-work-precision'), { read: () => form.read(), catalog });
+  views['work-precision'] = new WorkPrecisionView($('view-work-precision'), {
+    read: () => form.read(),
+    catalog,
+    onFormError: (path, message) => {
+      form.clearErrors();
+      return form.showError(path, message);
+    },
+  });
   views.map = new MapView($('view-map'), {
     read: () => form.read(),
     fill: (state) => form.fill(state),
@@ -264,10 +274,13 @@ async function run() {
   setBusy(true);
   progress(0);
   status('running', 'Starting…');
+  showResults();
   let finished = false;
   let shutdown = null;
+  stepNote = '';
   try {
-    await simulate(requestBody(state), {
+    // A busy server (503) is waited out as the other views do.
+    await retrying(() => simulate(requestBody(state), {
       signal: mine.signal,
       onEvent: (name, data) => {
         if (controller !== mine) return;
@@ -276,7 +289,11 @@ async function run() {
           plots.reset(result);
           $('download-json').disabled = false;
           $('download-csv').disabled = false;
-          status('running', 'Running…');
+          // An empty Step field runs the preset's (or the server's) step: say which.
+          if (state.step === null && Number.isFinite(data.step)) {
+            stepNote = ` with h = ${data.step}, ${state.preset ? 'the preset’s step' : 'the default step'} (the Step field is empty)`;
+          }
+          status('running', `Running${stepNote}…`);
         } else if (name === 'progress') result?.progress(data);
         else if (name === 'points') result?.addPoints(data);
         else if (name === 'run') result?.finishRun(data);
@@ -284,12 +301,12 @@ async function run() {
         else if (name === 'shutdown') shutdown = data;
         schedule();
       },
-    });
+    }), (wait) => status('running', `Server busy, retrying in ${wait} s…`));
     if (controller !== mine) return;
     if (finished) {
       const failed = result ? result.runs.filter((r) => r.status === 'failed').length : 0;
       const total = result ? result.runs.length : 0;
-      status(failed ? 'done-failed' : 'done', failed ? `Done: ${failed} of ${total} runs failed (see below).` : `Done: ${total} runs.`);
+      status(failed ? 'done-failed' : 'done', failed ? `Done${stepNote}: ${failed} of ${total} runs failed (see below).` : `Done${stepNote}: ${total} runs.`);
     } else if (shutdown) {
       result?.interrupt('interrupted');
       status('error', 'The server shut down during the run.');
@@ -306,7 +323,7 @@ async function run() {
       status('cancelled', 'Cancelled.');
     } else if (e instanceof ApiError) {
       const placed = form.showError(e.path, e.message);
-      const where = e.path ? ` (field ${e.path})` : '';
+      const where = e.path ? ` (field “${fieldLabel(e.path)}”)` : '';
       status('error', placed ? 'The server rejected a field: see the form.' : 'The server rejected the request.');
       banner($('run-error'), `${e.message}${where}`);
     } else {
@@ -323,6 +340,17 @@ async function run() {
   }
 }
 
+// On a narrow screen the results sit under the form: bring them into view on Run, unless
+// the status line is already on screen. They get a screen's height first, so the page is
+// long enough to scroll them to the top before the plots arrive.
+function showResults() {
+  const top = $('status').getBoundingClientRect().top;
+  if (top >= 0 && top <= innerHeight - 100) return;
+  const results = $('status').closest('.results');
+  results.style.minHeight = `${innerHeight}px`;
+  results.scrollIntoView({ block: 'start', behavior: 'smooth' });
+}
+
 function schedule() {
   if (!frame) frame = requestAnimationFrame(draw);
 }
@@ -335,7 +363,8 @@ function draw() {
   const window = Number($('window').value);
   plots.update({ stat: $('stat').value, window: smooth && window > 0 ? window : 0 });
   progress(result.fraction);
-  renderRuns($('runs'), result);
+  renderRuns($('runs'), result, catalog);
+  if (controller) status('running', `Running${stepNote}… ${progressNote(result.elapsed, result.fraction)}.`);
 }
 
 function progress(fraction) {

@@ -40,7 +40,7 @@ export class MapView {
     this.card = root.querySelector('.map-card');
     this.controls = new MapControls(root.querySelector('.map-controls'), { onChange: () => this.#changed() });
     this.heatmap = new Heatmap(root.querySelector('.map-plot'), { onOpen: (cell) => this.#open(cell), format: fmt });
-    this.line = new MapLine(root.querySelector('.map-line'));
+    this.line = new MapLine(root.querySelector('.map-line'), catalog);
     const { settings, warnings } = decodeSettings(location.search);
     this.controls.fill(settings);
     // `run=1` of an Explore link is Explore's: only a map link computes the map on load.

@@ -5,14 +5,19 @@
 
 import uPlot from 'uplot';
 import { LOG_FLOOR, powerOfTen } from './heatmap.js';
-import { runColor, runWidth } from './plots.js';
+import { runWidth } from './plots.js';
+import { methodStyle } from './palette.js';
+import { legendSwatches, seriesStyle } from './markers.js';
 import { fmt } from './sweepresult.js';
+import { humanLabel } from './labels.js';
 
 const HEIGHT = 300;
 
 export class MapLine {
-  constructor(container) {
+  /** `catalog`: GET /systems, for each method's colour and marker (palette.js). */
+  constructor(container, catalog = null) {
     this.container = container;
+    this.catalog = catalog;
     this.u = null;
     this.key = '';
     new ResizeObserver(() => this.u?.setSize({ width: this.#width(), height: HEIGHT })).observe(container);
@@ -58,11 +63,9 @@ export class MapLine {
       series: [
         { label: result.axes[0].path, value: (u, v) => (v === null ? '' : fmt(v)) },
         ...result.methods.map((m, i) => ({
-          label: m.label ?? m.id,
-          stroke: runColor(i),
-          width: i === chosen ? 3 : runWidth(i + 1),
+          ...seriesStyle(methodStyle(this.catalog, m), { width: i === chosen ? 3 : runWidth(i + 1), size: i === chosen ? 8 : 6, sparse: false }),
+          label: humanLabel(m.label ?? m.id),
           spanGaps: false,
-          points: { show: true, size: i === chosen ? 7 : 5, fill: runColor(i) },
           value: (u, v) => (v === null ? '–' : v.toExponential(2)),
         })),
       ],
@@ -71,6 +74,7 @@ export class MapLine {
     card.className = 'map-line-plot';
     this.container.replaceChildren(card);
     this.u = new uPlot(opts, [[], ...result.methods.map(() => [])], card);
+    legendSwatches(this.u, result.methods.map((m) => methodStyle(this.catalog, m)));
     card.uplot = this.u; // for the browser test: the drawn series
   }
 

@@ -4,7 +4,8 @@
 // per integral its paper figures show (its total energy, or its split energies and hidden
 // integral) with a panel per scene, smoothed with the preset's default running mean; each
 // figure has a note on what the paper finds and, under each panel, the scorecard row that
-// summarises it: the verdict of each method.
+// summarises it: the verdict of each method. The panels of a figure share one y-range, so
+// the scenes compare side by side as in the paper; each names its scene.
 //
 // The scenes are streamed one after another (the server admits a few simulations at once;
 // a 503 is retried after its Retry-After), each feeding the panels that show it.
@@ -16,6 +17,9 @@ import { Result } from './result.js';
 import { requestBody } from './state.js';
 import { VERDICTS, verdictTitle } from './verdicts.js';
 import { el } from './dom.js';
+import { sceneCaption } from './custom.js';
+import { humanLabel, sceneStem } from './labels.js';
+import { unionExtent } from './axes.js';
 
 /** What the paper finds about each integral's error, in terms of the methods' properties. */
 export const PAPER_NOTES = {
@@ -38,6 +42,7 @@ export function figures(catalog) {
 export class PaperView {
   constructor(root, { catalog }) {
     this.root = root;
+    this.catalog = catalog;
     this.figureList = figures(catalog);
     this.methods = defaultMethods(catalog);
     this.status = root.querySelector('.view-status');
@@ -61,6 +66,8 @@ export class PaperView {
       fig.dataset.figure = f.id;
       fig.append(el('h3', 'figure-title', f.title));
       const grid = el('div', `panel-grid n${f.panels.length}`);
+      // One y-range for the figure's panels.
+      const group = { extents: new Map(), key: '' };
       for (const p of f.panels) {
         const panel = el('section', 'paper-panel');
         panel.dataset.scene = `${p.system}/${p.preset}`;
@@ -71,12 +78,19 @@ export class PaperView {
         summary.append(el('span', 'pending', 'verdicts: waiting for the runs…'));
         panel.append(plotBox, summary);
         grid.append(panel);
-        this.panels.push({ key: panel.dataset.scene, integral: f.integral, window: p.window, plots: new Plots(plotBox), summary });
+        const plots = new Plots(plotBox, {
+          group,
+          catalog: this.catalog,
+          label: (run) => humanLabel(run.label),
+          caption: (scene) => sceneCaption(scene, this.catalog),
+          stem: (scene) => sceneStem(scene, this.catalog),
+        });
+        this.panels.push({ key: panel.dataset.scene, integral: f.integral, window: p.window, plots, summary, group });
       }
       const caption = el('figcaption', 'figure-caption');
       if (f.note) caption.append(el('strong', '', 'The paper: '), `${f.note} `);
       const windows = [...new Set(f.panels.map((p) => p.window))].join(' or ');
-      caption.append(`Running mean over ${windows} time units; step and span as in the paper.`);
+      caption.append(`Running mean over ${windows} time units; step and span as in the paper; the panels share one y-range.`);
       fig.append(grid, caption);
       return fig;
     });
@@ -92,7 +106,7 @@ export class PaperView {
     const scenes = figureScenes(this.figureList);
     try {
       for (const [i, scene] of scenes.entries()) {
-        this.#status('running', `Computing scene ${i + 1} of ${scenes.length}: ${scene.system}/${scene.preset}…`);
+        this.#status('running', `Computing scene ${i + 1} of ${scenes.length}: ${sceneCaption(scene, this.catalog)}…`);
         await this.#stream(scene, mine);
         if (this.controller !== mine) return;
       }
@@ -126,6 +140,13 @@ export class PaperView {
     const draw = () => {
       frame = 0;
       for (const p of panels) p.plots.update({ stat: 'mean', window: p.window });
+      // A figure's y-range grew: redraw its other panels on it.
+      for (const group of new Set(panels.map((p) => p.group))) {
+        const key = JSON.stringify(unionExtent([...group.extents.values()]));
+        if (key === group.key) continue;
+        group.key = key;
+        for (const p of this.panels) if (p.group === group && !panels.includes(p)) p.plots.refresh();
+      }
     };
     await retrying(
       () =>
@@ -146,7 +167,7 @@ export class PaperView {
             if (!frame) frame = requestAnimationFrame(draw);
           },
         }),
-      (wait) => this.#status('running', `The server is busy; retrying ${key} in ${wait} s…`),
+      (wait) => this.#status('running', `The server is busy; retrying ${sceneCaption(scene, this.catalog)} in ${wait} s…`),
     );
     cancelAnimationFrame(frame);
     draw();
@@ -159,8 +180,9 @@ export class PaperView {
       const kind = run.status === 'running' ? 'pending' : v?.kind ?? 'none';
       const chip = el('span', `verdict-chip ${kind}`);
       chip.dataset.kind = kind;
-      chip.append(el('span', 'chip-label', run.label), el('span', 'chip-kind', VERDICTS.find((x) => x.kind === kind)?.label ?? (kind === 'pending' ? '…' : run.status)));
-      chip.title = run.status === 'failed' ? `${run.label}: failed: ${run.error}` : verdictTitle(v, `${run.label}: `);
+      const label = humanLabel(run.label);
+      chip.append(el('span', 'chip-label', label), el('span', 'chip-kind', VERDICTS.find((x) => x.kind === kind)?.label ?? (kind === 'pending' ? '…' : run.status)));
+      chip.title = run.status === 'failed' ? `${label}: failed: ${run.error}` : verdictTitle(v, `${label}: `);
       return chip;
     });
     panel.summary.replaceChildren(...chips);

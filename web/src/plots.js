@@ -1,17 +1,22 @@
 // The plots: one uPlot chart per integral, one curve per run, log-scale errors against time.
 // Curves are redrawn from the Result on each animation frame while the stream runs. Errors
 // below FLOOR are drawn on a dashed floor line with a note (see series.js), never at -∞.
+// The y-range leaves out runs that diverged (axes.js) and says so; panels compared side by
+// side can share one y-range (a `group`). Each card names its scene, exports PNG and SVG
+// (export.js) and carries a text summary of its curves for screen readers (alttext.js).
+// Each curve has its method's colour, dash and markers (palette.js), and its legend entry
+// the run's verdict on the plot's integral (verdictbadge.js).
 
 import uPlot from 'uplot';
 import { FLOOR, displaySeries } from './series.js';
 import { el } from './dom.js';
-
-const COLORS = ['#2563eb', '#dc2626', '#16a34a', '#9333ea', '#ea580c', '#0891b2', '#ca8a04', '#db2777', '#475569', '#65a30d'];
-
-/** The colour of run `i` (the runs table uses it too). */
-export function runColor(i) {
-  return COLORS[i % COLORS.length];
-}
+import { clipRange, compactTick, decades, logRange, power, unionExtent } from './axes.js';
+import { curveText, plotSummary } from './alttext.js';
+import { exportButtons } from './export.js';
+import { humanLabel } from './labels.js';
+import { methodStyle } from './palette.js';
+import { legendSwatches, seriesStyle } from './markers.js';
+import { legendVerdict } from './verdictbadge.js';
 
 /** The line width of run `i`: earlier runs are wider, so a curve hidden under a later identical
  * one (two methods can coincide on a system) still shows as a halo. */
@@ -32,10 +37,17 @@ const HEIGHT = 300;
 const DECADES = Array.from({ length: 617 }, (_, i) => 10 ** (i - 308));
 
 export class Plots {
-  /** `caption(scene)`: a line under each chart's title naming the scene (none without it). */
-  constructor(container, { caption } = {}) {
+  /** `caption(scene)`: a line under each chart's title naming the scene (none without it);
+   *  `label(run)`: a curve's label (the run's, for people, by default); `stem(scene)`: the
+   *  exported file name's start; `group`: a `{extents: Map}` shared by plots drawn on one
+   *  y-range; `catalog`: GET /systems, for each method's colour and marker (palette.js). */
+  constructor(container, { caption, label, stem, group, catalog } = {}) {
     this.container = container;
     this.caption = caption;
+    this.catalog = catalog ?? null;
+    this.label = label ?? ((run) => humanLabel(run.label));
+    this.stem = stem ?? (() => 'nhlab');
+    this.group = group ?? null;
     this.charts = [];
     new ResizeObserver(() => this.#resize()).observe(container);
   }
@@ -55,13 +67,24 @@ export class Plots {
       const note = el('p', 'floor-note');
       note.hidden = true;
       note.textContent = `Values below ${FLOOR.toExponential(0)} are shown at ${FLOOR.toExponential(0)} on the dashed line (exact within round-off).`;
+      const scene = this.caption ? this.caption(result.scene) : '';
       card.append(head);
-      if (this.caption) card.append(el('p', 'plot-scene', this.caption(result.scene)));
-      card.append(target, note);
+      if (scene) card.append(el('p', 'plot-scene', scene));
+      const clip = el('p', 'clip-note');
+      clip.hidden = true;
+      const alt = el('p', 'sr-only plot-alt');
+      // Curves that stop while their run goes on: from when and why (the series' gap).
+      const gaps = el('p', 'gap-note');
+      gaps.hidden = true;
+      const foot = el('div', 'plot-foot');
+      card.append(target, note, clip, gaps, foot, alt);
       this.container.append(card);
-      const chart = { integral, card, note, sub, subtitle, clamped: false, u: null };
+      const chart = { integral, card, note, clip, gaps, alt, sub, subtitle, title, scene, clamped: false, full: false, extent: null, u: null };
       chart.u = new uPlot(this.#options(result, chart), emptyData(result.runs.length), target);
+      chart.u.ctx.canvas.setAttribute('role', 'img');
+      legendSwatches(chart.u, result.runs.map((run) => methodStyle(this.catalog, run.method)));
       card.uplot = chart.u; // for the browser test: the drawn series
+      foot.append(exportButtons(() => chart.u, () => ({ title: `${title} error`, caption: scene, stem: `${this.stem(result.scene)}-${integral}`, styles: result.runs.map((run) => methodStyle(this.catalog, run.method)), floor: chart.clamped ? FLOOR : null })));
       this.charts.push(chart);
     }
   }
@@ -80,13 +103,66 @@ export class Plots {
       const t_end = this.result.scene.t_end;
       if (Number.isFinite(t_end)) tables.push([[0, t_end]]);
       const data = uPlot.join(tables);
+      this.#range(chart, tables.slice(0, this.result.runs.length).map(([, y]) => y));
       chart.note.hidden = !chart.clamped;
+      const gaps = this.result.runs.filter((run) => run.gaps?.[chart.integral]).map((run) => `${this.label(run)}: ${run.gaps[chart.integral].message}.`);
+      chart.gaps.textContent = gaps.join(' ');
+      chart.gaps.hidden = gaps.length === 0;
       // Say what is drawn: the plain per-bucket statistic or a smoothed one.
       const how = [view.stat === 'max' ? 'max per bucket' : 'mean per bucket', view.window > 0 ? `running mean over ${view.window} time units` : ''];
       chart.sub.textContent = `${chart.subtitle} · ${how.filter(Boolean).join(', ')}`;
       chart.u.setData(data);
+      this.#summary(chart, tables);
     }
     this.#labels();
+  }
+
+  // The y extent without the runs that diverged, shared with the group; a note names them.
+  #range(chart, ys) {
+    chart.ys = ys;
+    const { range, full, clipped } = clipRange(ys);
+    chart.extent = chart.full ? full : range;
+    if (this.group) this.group.extents.set(chart, chart.extent);
+    chart.clip.hidden = clipped.length === 0;
+    if (!clipped.length) return;
+    const key = `${chart.full}|${clipped.map((c) => `${c.index}:${c.max.toExponential(1)}`).join(',')}`;
+    if (chart.clip.dataset.key === key) return;
+    chart.clip.dataset.key = key;
+    const names = clipped.map((c) => `${this.label(this.result.runs[c.index])} (up to ${c.max.toExponential(1)})`).join(', ');
+    const toggle = el('button', 'link-button', chart.full ? 'Clip to the other runs' : 'Show the full range');
+    toggle.type = 'button';
+    toggle.addEventListener('click', () => {
+      chart.full = !chart.full;
+      chart.clip.dataset.key = '';
+      this.#range(chart, chart.ys);
+      chart.u.setData(chart.u.data);
+    });
+    const one = clipped.length === 1;
+    const what = chart.full ? `Full range shown, including ${names}.` : `The y-axis is clipped: ${names} ${one ? 'diverges, and its curve leaves' : 'diverge, and their curves leave'} the plot.`;
+    chart.clip.replaceChildren(what, ' ', toggle);
+  }
+
+  /** The y-range of a chart: its own extent, or its group's. */
+  #yRange(chart) {
+    return this.group ? unionExtent([...this.group.extents.values()]) : chart.extent;
+  }
+
+  /** Redraws the charts on the group's current y-range (after another panel's update). */
+  refresh() {
+    for (const chart of this.charts) chart.u.setData(chart.u.data);
+  }
+
+  // The text alternative: each curve's last error and verdict (or status).
+  #summary(chart, tables) {
+    const items = this.result.runs.map((run, i) => ({
+      label: this.label(run),
+      text: curveText(tables[i][1], { verdict: run.verdicts?.[chart.integral]?.kind ?? null, status: run.status }),
+    }));
+    const text = plotSummary(`${chart.title} error against t`, chart.scene, items);
+    if (chart.alt.textContent !== text) {
+      chart.alt.textContent = text;
+      chart.u.ctx.canvas.setAttribute('aria-label', text);
+    }
   }
 
   /** Clears the floor flags (a new view may clamp differently). */
@@ -96,6 +172,7 @@ export class Plots {
 
   destroy() {
     for (const chart of this.charts) {
+      this.group?.extents.delete(chart);
       chart.u.destroy();
       chart.card.remove();
     }
@@ -111,9 +188,10 @@ export class Plots {
         const row = rows[i + 1];
         if (!row) return;
         const label = row.querySelector('.u-label');
-        const text = run.status === 'failed' ? `${run.label} (failed)` : run.label;
+        const text = run.status === 'failed' ? `${this.label(run)} (failed)` : this.label(run);
         if (label && label.textContent !== text) label.textContent = text;
         row.classList.toggle('failed', run.status === 'failed');
+        legendVerdict(row, run, chart.integral);
       });
     }
   }
@@ -124,10 +202,18 @@ export class Plots {
       height: HEIGHT,
       scales: {
         x: { time: false },
-        y: { distr: 3, log: 10, range: (u, min, max) => logRange(min, max, chart.clamped) },
+        y: {
+          distr: 3,
+          log: 10,
+          range: (u, min, max) => {
+            const e = this.#yRange(chart);
+            return e ? logRange(e[0], e[1], chart.clamped) : logRange(min, max, chart.clamped);
+          },
+        },
       },
       axes: [
-        { label: 't', stroke: '#475569', grid: { stroke: '#e2e8f0' }, ticks: { stroke: '#cbd5e1' } },
+        // Compact labels (3e6, not 3,000,000) and room for them, so long times do not overlap.
+        { label: 't', stroke: '#475569', grid: { stroke: '#e2e8f0' }, ticks: { stroke: '#cbd5e1' }, space: 60, values: (u, splits) => splits.map(compactTick) },
         {
           label: 'error',
           stroke: '#475569',
@@ -146,10 +232,8 @@ export class Plots {
       series: [
         { label: 't', value: (u, v) => (v === null || v === undefined ? '–' : v.toPrecision(6)) },
         ...result.runs.map((run, i) => ({
-          label: run.label,
-          stroke: runColor(i),
-          width: runWidth(i),
-          points: { show: false },
+          ...seriesStyle(methodStyle(this.catalog, run.method), { width: runWidth(i) }),
+          label: this.label(run),
           value: (u, v) => (v === null || v === undefined ? '–' : v.toExponential(3)),
         })),
       ],
@@ -160,7 +244,7 @@ export class Plots {
   }
 
   #width() {
-    return Math.max(320, Math.floor(this.container.clientWidth - 34));
+    return Math.max(240, Math.floor(this.container.clientWidth - 34));
   }
 
   #resize() {
@@ -171,38 +255,6 @@ export class Plots {
 
 function emptyData(runs) {
   return [[], ...Array.from({ length: runs }, () => [])];
-}
-
-// Whole decades around the data, one decade below the floor when the floor is in use so its
-// line stays visible above the axis.
-function logRange(min, max, clamped) {
-  if (!(min > 0) || !(max > 0)) return [FLOOR / 10, 1];
-  let lo = 10 ** Math.floor(Math.log10(min) + 1e-9);
-  let hi = 10 ** Math.ceil(Math.log10(max) - 1e-9);
-  if (clamped || min <= FLOOR) lo = Math.min(lo, FLOOR / 10);
-  if (hi <= lo) hi = lo * 10;
-  return [lo, hi];
-}
-
-// Ticks at whole decades only, thinned so labels stay ~28 px apart on a tall range.
-function decades(min, max, height) {
-  const lo = Math.ceil(Math.log10(min) - 1e-9);
-  const hi = Math.floor(Math.log10(max) + 1e-9);
-  const stride = Math.max(1, Math.ceil((28 * (hi - lo + 1)) / Math.max(height, 1)));
-  const out = [];
-  // Multiples of the stride, so 1 = 10⁰ is always a tick when in range.
-  for (let e = Math.floor(hi / stride) * stride; e >= lo; e -= stride) out.unshift(10 ** e);
-  return out;
-}
-
-const SUPERSCRIPT = { '-': '⁻', 0: '⁰', 1: '¹', 2: '²', 3: '³', 4: '⁴', 5: '⁵', 6: '⁶', 7: '⁷', 8: '⁸', 9: '⁹' };
-
-// 1e-12 → "10⁻¹²"; 1 and 10 as themselves.
-function power(v) {
-  const e = Math.round(Math.log10(v));
-  if (e === 0) return '1';
-  if (e === 1) return '10';
-  return `10${String(e).replace(/./g, (c) => SUPERSCRIPT[c])}`;
 }
 
 function drawFloor(u, chart) {

@@ -1,10 +1,11 @@
-// Work–precision data, pure: the request body of `POST /work-precision` for the form's
-// state, the view's URL, and the answer's rows grouped into one curve per method with its
-// fitted order (the least-squares slope of log error against log h). Only rows that ran and
-// have a positive, finite error become points: log axes cannot show 0, and a failed run is
-// reported as failed, never drawn as a point.
+// Work–precision data, pure: the view's settings read and checked (the number of step
+// sizes, or an explicit list of steps, and the repeats), the request body of
+// `POST /work-precision` for the form's state, the view's URL, and the answer's rows grouped
+// into one curve per method with its fitted order (the least-squares slope of log error
+// against log h). Only rows that ran and have a positive, finite error become points: log
+// axes cannot show 0, and a failed run is reported as failed, never drawn as a point.
 
-import { encodeState, requestBody } from './state.js';
+import { encodeState, parseList, requestBody } from './state.js';
 
 /** Default halvings and repetitions (the server's defaults too). */
 export const DEFAULT_LEVELS = 4;
@@ -12,31 +13,73 @@ export const DEFAULT_REPEATS = 3;
 export const MAX_LEVELS = 12;
 export const MAX_REPEATS = 10;
 
-/** The body of `POST /work-precision`: the form's scene and methods, `levels` halvings. */
-export function workPrecisionBody(state, { levels = DEFAULT_LEVELS, repeats = DEFAULT_REPEATS } = {}) {
+/** The time plot's orientations: run time on x (the default), or error on x and time on y
+ *  as DiffEqDevTools draws it (`orient=error-x` in the URL). */
+export const ORIENTS = ['time-x', 'error-x'];
+
+/**
+ * The settings as typed (`{levels, repeats, steps}` strings) checked against the scene's
+ * final time: `{settings: {levels, repeats, steps}, errors: [{field, message}]}`. A list of
+ * steps, when given, replaces the number of step sizes; every entry must lie in (0, t_end].
+ */
+export function readSettings(raw, tEnd) {
+  const errors = [];
+  const whole = (field, text, max, what) => {
+    const t = String(text ?? '').trim();
+    const v = Number(t);
+    if (t === '') errors.push({ field, message: `empty: enter ${what}, a whole number from 1 to ${max}` });
+    else if (!Number.isInteger(v) || v < 1 || v > max) {
+      errors.push({ field, message: `must be a whole number from 1 to ${max}${v === 0 ? ' (0 would measure nothing)' : ''}` });
+    } else return v;
+    return null;
+  };
+  const stepsText = String(raw.steps ?? '').trim();
+  let steps = null;
+  if (stepsText !== '') {
+    steps = parseList(stepsText);
+    const bad = steps.find((h) => !Number.isFinite(h));
+    if (bad !== undefined) errors.push({ field: 'steps', message: 'comma-separated numbers, please' });
+    else if (steps.some((h) => h <= 0)) errors.push({ field: 'steps', message: `every step h must be positive (h = ${steps.find((h) => h <= 0)} never reaches the final time)` });
+    else if (Number.isFinite(tEnd) && steps.some((h) => h > tEnd)) errors.push({ field: 'steps', message: `every step h must be at most the final time ${tEnd}` });
+    else if (steps.length > MAX_LEVELS) errors.push({ field: 'steps', message: `at most ${MAX_LEVELS} steps; got ${steps.length}` });
+  }
+  const levels = steps ? null : whole('levels', raw.levels, MAX_LEVELS, 'the number of step sizes');
+  const repeats = whole('repeats', raw.repeats, MAX_REPEATS, 'the number of repeats');
+  return { settings: { levels: levels ?? DEFAULT_LEVELS, repeats: repeats ?? DEFAULT_REPEATS, steps }, errors };
+}
+
+/** The body of `POST /work-precision`: the form's scene and methods, and either the list of
+ *  `steps` or `levels` halvings of the scene's step. */
+export function workPrecisionBody(state, { levels = DEFAULT_LEVELS, repeats = DEFAULT_REPEATS, steps = null } = {}) {
   const body = requestBody(state);
   delete body.points;
-  body.levels = levels;
+  if (steps?.length) body.steps = steps;
+  else body.levels = levels;
   body.repeats = repeats;
   return body;
 }
 
-/** The view's query string (without `?`): the form's state, then levels and repeats when not the defaults. */
-export function workPrecisionQuery(state, catalog, { levels = DEFAULT_LEVELS, repeats = DEFAULT_REPEATS } = {}) {
+/** The view's query string (without `?`): the form's state, then the settings that are not
+ *  the defaults. */
+export function workPrecisionQuery(state, catalog, { levels = DEFAULT_LEVELS, repeats = DEFAULT_REPEATS, steps = null, orient = ORIENTS[0] } = {}) {
   const parts = ['view=work-precision', encodeState({ ...state, run: false }, catalog)];
-  if (levels !== DEFAULT_LEVELS) parts.push(`levels=${levels}`);
+  if (steps?.length) parts.push(`steps=${steps.join(',')}`);
+  else if (levels !== DEFAULT_LEVELS) parts.push(`levels=${levels}`);
   if (repeats !== DEFAULT_REPEATS) parts.push(`repeats=${repeats}`);
+  if (orient !== ORIENTS[0]) parts.push(`orient=${orient}`);
   return parts.join('&');
 }
 
-/** `levels` and `repeats` from a query string, clamped to what the server takes. */
+/** The settings a query string holds, as the inputs show them (strings, unchecked: a bad
+ *  value is shown and reported at its field, not replaced), and the orientation. */
 export function decodeSettings(query) {
   const p = new URLSearchParams(query);
-  const int = (name, fallback, max) => {
-    const v = Number(p.get(name));
-    return p.has(name) && Number.isInteger(v) ? Math.min(Math.max(v, 1), max) : fallback;
+  return {
+    levels: p.get('levels') ?? String(DEFAULT_LEVELS),
+    repeats: p.get('repeats') ?? String(DEFAULT_REPEATS),
+    steps: p.get('steps') ?? '',
+    orient: ORIENTS.includes(p.get('orient')) ? p.get('orient') : ORIENTS[0],
   };
-  return { levels: int('levels', DEFAULT_LEVELS, MAX_LEVELS), repeats: int('repeats', DEFAULT_REPEATS, MAX_REPEATS) };
 }
 
 /**

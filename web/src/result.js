@@ -1,10 +1,15 @@
 // The result of one simulation as it streams in: the resolved scene, then per run its status
 // and its series, built by appending the `points` events. Exported as the JSON shape of
 // `POST /simulate` (so a download equals what a script would get) and as long-format CSV.
+// A run still going holds its steps so far and the time since the scene arrived (`live_ms`,
+// from its `progress` events), which a cancelled run keeps.
 
 export class Result {
-  constructor(scene) {
+  /** `now()`: a clock in ms (injectable for tests). */
+  constructor(scene, now = () => performance.now()) {
     this.scene = scene;
+    this.now = now;
+    this.started = now();
     const integrals = scene.integrals ?? [];
     this.runs = (scene.methods ?? []).map((method) => ({
       method,
@@ -15,8 +20,11 @@ export class Result {
       steps: null,
       elapsed_ms: null,
       cpu_ms: null,
+      live_ms: null,
+      t: null,
       fraction: 0,
       verdicts: null,
+      gaps: {},
       series: Object.fromEntries(integrals.map((i) => [i, { t: [], mean: [], max: [] }])),
     }));
   }
@@ -36,6 +44,9 @@ export class Result {
   progress(ev) {
     const run = this.#run(ev.run);
     if (Number.isFinite(ev.fraction)) run.fraction = Math.min(1, Math.max(0, ev.fraction));
+    if (Number.isFinite(ev.steps)) run.steps = ev.steps;
+    if (Number.isFinite(ev.t)) run.t = ev.t;
+    run.live_ms = this.now() - this.started;
   }
 
   /** Applies a `run` event (a run finished, or failed). */
@@ -47,12 +58,25 @@ export class Result {
     run.elapsed_ms = ev.elapsed_ms ?? null;
     run.cpu_ms = ev.cpu_ms ?? null;
     run.verdicts = ev.verdicts ?? null;
+    // Series with no values from some t on although the run went on, and why.
+    run.gaps = ev.gaps ?? {};
     if (run.status === 'ok') run.fraction = 1;
   }
 
-  /** Marks runs still going as cancelled (the user pressed Cancel or the stream broke). */
+  /** Marks runs still going as cancelled (the user pressed Cancel or the stream broke); they
+   *  keep their steps so far and the time they ran. */
   interrupt(status) {
-    for (const run of this.runs) if (run.status === 'running') run.status = status;
+    const ran = this.now() - this.started;
+    for (const run of this.runs) {
+      if (run.status !== 'running') continue;
+      run.status = status;
+      run.live_ms = ran;
+    }
+  }
+
+  /** The time since the scene arrived, in ms. */
+  get elapsed() {
+    return this.now() - this.started;
   }
 
   /** Overall progress in [0, 1]: finished runs (ok or failed) count as complete, cancelled ones do not. */
@@ -73,9 +97,9 @@ export class Result {
         steps: r.steps,
         elapsed_ms: r.elapsed_ms,
         cpu_ms: r.cpu_ms,
-        // As the JSON response: each series with its verdict (from the `run` event).
+        // As the JSON response: each series with its verdict and gap (from the `run` event).
         series: Object.fromEntries(
-          Object.entries(r.series).map(([k, s]) => [k, { ...s, verdict: r.verdicts?.[k] ?? null }]),
+          Object.entries(r.series).map(([k, s]) => [k, { ...s, verdict: r.verdicts?.[k] ?? null, gap: r.gaps?.[k] ?? null }]),
         ),
       })),
     };

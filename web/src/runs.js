@@ -1,10 +1,14 @@
-// The runs table: one row per run with its colour, label, status, the verdict of each of its
-// series (exact / bounded / drift, the numbers on hover), steps and time (`timing`); a failed
-// run gets a second row with the server's message, so a failure is never silent.
+// The runs table: one row per run with its method's line and marker (palette.js), label,
+// status, the verdict of each of its series (exact / bounded / drift, the numbers on hover),
+// steps and time (`timing`); a failed run gets a second row with the server's message, so a
+// failure is never silent, and so does a series that stops having values while its run goes
+// on (its gap: from when and why). On a narrow screen each run is a small card (style.css).
 
-import { runColor } from './plots.js';
 import { timing } from './timing.js';
-import { runVerdicts } from './verdicts.js';
+import { INTEGRAL_NAME, runVerdicts } from './verdicts.js';
+import { humanLabel } from './labels.js';
+import { methodStyle } from './palette.js';
+import { swatch } from './markers.js';
 
 const STATUS = {
   running: 'running',
@@ -14,7 +18,8 @@ const STATUS = {
   interrupted: 'interrupted',
 };
 
-export function renderRuns(table, result) {
+/** `catalog`: GET /systems, for each method's look. */
+export function renderRuns(table, result, catalog) {
   table.hidden = result.runs.length === 0;
   const rows = [];
   result.runs.forEach((run, i) => {
@@ -23,16 +28,14 @@ export function renderRuns(table, result) {
     tr.dataset.run = i;
     const name = cell('th');
     name.scope = 'row';
-    const swatch = document.createElement('span');
-    swatch.className = 'swatch';
-    swatch.style.background = runColor(i);
-    name.append(swatch, document.createTextNode(run.label));
+    name.append(swatch(methodStyle(catalog, run.method)), document.createTextNode(humanLabel(run.label)));
     const state = cell('td');
     const badge = document.createElement('span');
     badge.className = `badge ${run.status}`;
     badge.textContent = run.status === 'running' ? `running ${Math.floor(run.fraction * 100)}%` : STATUS[run.status] ?? run.status;
     state.append(badge);
-    tr.append(name, state, verdictsCell(run, result.scene.integrals ?? []), cell('td', 'num', run.steps === null ? '–' : run.steps.toLocaleString('en-US')), timeCell(run));
+    const steps = cell('td', 'num steps', run.steps === null ? '–' : run.steps.toLocaleString('en-US'));
+    tr.append(name, state, verdictsCell(run, result.scene.integrals ?? []), steps, timeCell(run));
     rows.push(tr);
     if (run.status === 'failed') {
       const err = document.createElement('tr');
@@ -42,8 +45,21 @@ export function renderRuns(table, result) {
       err.append(td);
       rows.push(err);
     }
+    for (const text of gapTexts(run)) {
+      const gap = document.createElement('tr');
+      gap.className = 'run-gap';
+      const td = cell('td', '', text);
+      td.colSpan = 5;
+      gap.append(td);
+      rows.push(gap);
+    }
   });
   table.tBodies[0].replaceChildren(...rows);
+}
+
+/** One sentence per series of `run` with a gap, naming the series (its integral's name). */
+export function gapTexts(run) {
+  return Object.entries(run.gaps ?? {}).map(([integral, gap]) => `${integralName(integral)}: ${gap.message}`);
 }
 
 function verdictsCell(run, integrals) {
@@ -54,7 +70,9 @@ function verdictsCell(run, integrals) {
     const chip = cell('span', `verdict-chip ${v.kind}`);
     chip.dataset.integral = v.integral;
     chip.dataset.kind = v.kind;
-    chip.title = v.title;
+    const gap = run.gaps?.[v.integral];
+    chip.title = gap ? `${v.title}\n${gap.message}` : v.title;
+    if (gap) chip.classList.add('has-gap');
     chip.append(cell('span', 'chip-label', v.short), cell('span', 'chip-kind', v.label));
     list.append(chip);
   }
@@ -73,4 +91,8 @@ function cell(tag, className = '', text) {
   if (className) c.className = className;
   if (text !== undefined) c.textContent = text;
   return c;
+}
+
+function integralName(id) {
+  return INTEGRAL_NAME[id] ?? id;
 }

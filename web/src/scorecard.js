@@ -8,6 +8,7 @@ import { ApiError, fetchScorecard, retrying } from './api.js';
 import { findPreset, findSystem, presetLabel, systemShortName } from './catalog.js';
 import { INTEGRAL_NAME, INTEGRAL_SHORT, VERDICTS, propertyMark, sceneIntegrals, systemsOf, verdictTitle } from './verdicts.js';
 import { el } from './dom.js';
+import { humanLabel } from './labels.js';
 
 export class ScorecardView {
   /** `onOpen(scene, methods)`: show a scene's plots in the main view. */
@@ -103,7 +104,7 @@ export class ScorecardView {
     card.methods.forEach((m, mi) => {
       const tr = el('tr');
       tr.dataset.method = m.label;
-      tr.append(el('th', 'method', m.label));
+      tr.append(el('th', 'method', humanLabel(m.label)));
       for (const [system] of systems) {
         for (const property of ['reversible', 'preserves_fibration']) {
           const { mark, title } = propertyMark(card, mi, system, property);
@@ -123,7 +124,7 @@ export class ScorecardView {
           const kind = v?.kind ?? 'none';
           const td = el('td', `verdict-cell ${kind}`, VERDICTS.find((x) => x.kind === kind)?.letter ?? '–');
           const failed = run?.status === 'failed' ? ` (run failed: ${run.error})` : '';
-          td.title = verdictTitle(v, `${m.label}, ${s.id}, ${INTEGRAL_NAME[integral] ?? integral}${failed}: `);
+          td.title = verdictTitle(v, `${humanLabel(m.label)}, ${s.id}, ${INTEGRAL_NAME[integral] ?? integral}${failed}: `);
           Object.assign(td.dataset, { scene: s.id, integral, kind });
           td.tabIndex = 0;
           td.addEventListener('click', () => this.onOpen(s.scene, card.methods));

@@ -126,7 +126,8 @@ export function decodeState(query, catalog) {
 // The fields a built-in's and a custom system's links share, over `state`'s defaults.
 function readFields(p, state, catalog, warnings) {
   for (const key of ['q', 'v']) if (p.has(key)) state[key] = parseList(p.get(key));
-  for (const key of ['step', 't_end', 'points']) if (p.has(key)) state[key] = Number(p.get(key));
+  // An empty value (`step=`) is an empty field, the preset's value: not 0.
+  for (const key of ['step', 't_end', 'points']) if (p.has(key)) state[key] = p.get(key).trim() === '' ? null : Number(p.get(key));
   if (p.has('methods')) state.methods = decodeMethods(p.get('methods'), catalog, warnings);
   if (p.has('integrals')) state.integrals = p.get('integrals').split(',').filter(Boolean);
   if (p.get('stat') === 'max') state.stat = 'max';

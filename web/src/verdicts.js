@@ -3,6 +3,8 @@
 // integrals each scene has, the properties of a method per system). Pure functions, so node
 // tests cover them.
 
+import { humanLabel } from './labels.js';
+
 /** The three verdicts, in the legend's order. */
 export const VERDICTS = [
   { kind: 'exact', label: 'exact', letter: 'E', text: 'conserved to round-off' },
@@ -47,7 +49,8 @@ export function runVerdicts(run, integrals) {
     const v = run.verdicts?.[integral] ?? null;
     const kind = run.status === 'running' ? 'pending' : v?.kind ?? 'none';
     const name = INTEGRAL_NAME[integral] ?? integral;
-    const title = kind === 'pending' ? `${run.label}, ${name}: running` : verdictTitle(v, `${run.label}, ${name}: `);
+    const who = humanLabel(run.label);
+    const title = kind === 'pending' ? `${who}, ${name}: running` : verdictTitle(v, `${who}, ${name}: `);
     return { integral, short: INTEGRAL_SHORT[integral] ?? integral, kind, label: VERDICTS.find((x) => x.kind === kind)?.label ?? (kind === 'pending' ? '…' : '–'), title };
   });
 }

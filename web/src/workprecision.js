@@ -1,195 +1,212 @@
 // The Work–precision view: posts the form's scene and methods to `/work-precision` (the
-// scene's step and `levels` halvings of it) and draws two log–log plots, final error against
-// run time and final error against h, one line per method, with each method's fitted order
-// (slope against h) in the legend and in a table beside the rows that failed. Its state is
-// the form's plus `levels` and `repeats`, in the URL as `?view=work-precision&…`.
+// scene's step and halvings of it, or a list of steps) and draws two log–log plots
+// (wpplots.js), one line per method, with each method's fitted order. Its settings are
+// checked at their fields before anything is sent; while it runs, the elapsed time shows
+// and Cancel aborts the request (the server stops when the client leaves); after an error
+// or a cancel, the plots of the previous request stay, dimmed and marked stale. Its state is
+// the form's plus the settings, in the URL as `?view=work-precision&…`.
 
-import uPlot from 'uplot';
 import { ApiError, fetchWorkPrecision, retrying } from './api.js';
 import { sceneCaption } from './custom.js';
-import { runColor, runWidth } from './plots.js';
-import { MAX_LEVELS, MAX_REPEATS, curves, decodeSettings, formatOrder, workPrecisionBody, workPrecisionQuery } from './precision.js';
+import { ORIENTS, decodeSettings, readSettings, workPrecisionBody, workPrecisionQuery } from './precision.js';
+import { HEIGHT, renderAnswer } from './wpplots.js';
+import { fieldLabel, sceneStem } from './labels.js';
+import { clock } from './timing.js';
 import { el } from './dom.js';
 
-const HEIGHT = 320;
-
-const PLOTS = [
-  { key: 'time', title: 'Final error against run time', x: 'run time (ms, fastest of the repeats)' },
-  { key: 'step', title: 'Final error against step h', x: 'h' },
-];
+const FIELDS = ['levels', 'steps', 'repeats'];
 
 export class WorkPrecisionView {
-  /** `read()`: the form's `{state, invalid}`; `catalog`: `GET /systems`. */
-  constructor(root, { read, catalog }) {
+  /** `read()`: the form's `{state, invalid}`; `catalog`: `GET /systems`; `onFormError(path,
+   *  message)`: marks an Explore field the server rejected. */
+  constructor(root, { read, catalog, onFormError }) {
     this.root = root;
     this.read = read;
     this.catalog = catalog;
+    this.onFormError = onFormError ?? (() => false);
     this.controller = null;
     this.charts = [];
+    this.answer = null;
     this.computedFor = null;
-    this.status = root.querySelector('.view-status');
-    this.plots = root.querySelector('.wp-plots');
-    this.table = root.querySelector('.wp-table');
-    this.levels = root.querySelector('.wp-levels');
-    this.repeats = root.querySelector('.wp-repeats');
+    const q = (c) => root.querySelector(c);
+    this.status = q('.view-status');
+    this.plots = q('.wp-plots');
+    this.table = q('.wp-table');
+    this.stale = q('.wp-stale');
+    this.progress = q('.wp-progress-line');
+    this.inputs = { levels: q('.wp-levels'), steps: q('.wp-steps'), repeats: q('.wp-repeats') };
+    this.orient = q('.wp-orient');
+    this.cancel = q('.wp-cancel');
     const settings = decodeSettings(location.search);
-    this.levels.value = settings.levels;
-    this.repeats.value = settings.repeats;
-    this.levels.max = MAX_LEVELS;
-    this.repeats.max = MAX_REPEATS;
-    root.querySelector('.wp-run').addEventListener('click', () => this.load());
+    for (const f of FIELDS) this.inputs[f].value = settings[f];
+    this.orient.value = settings.orient;
+    q('.wp-run').addEventListener('click', () => this.load());
+    this.cancel.addEventListener('click', () => this.controller?.abort());
+    this.orient.addEventListener('change', () => {
+      this.#url();
+      if (this.answer) this.#render(this.answer);
+    });
+    for (const f of FIELDS) this.inputs[f].addEventListener('change', () => this.#url());
     new ResizeObserver(() => this.#resize()).observe(this.plots);
   }
 
   /** Computes for the form's current scene, unless it is the one shown already. */
   show() {
-    const { state } = this.read();
-    const query = workPrecisionQuery(state, this.catalog, this.#settings());
-    history.replaceState(null, '', `?${query}`);
+    const query = this.#url();
     if (query !== this.computedFor && !this.controller) this.load();
   }
 
-  #settings() {
-    const int = (input, fallback, max) => {
-      const v = Number(input.value);
-      return Number.isInteger(v) ? Math.min(Math.max(v, 1), max) : fallback;
-    };
-    return { levels: int(this.levels, 4, MAX_LEVELS), repeats: int(this.repeats, 3, MAX_REPEATS) };
+  // The settings as typed, checked against the final time (the form's, else the preset's).
+  #settings(state) {
+    const raw = Object.fromEntries(FIELDS.map((f) => [f, this.inputs[f].value]));
+    const tEnd = state.t_end ?? this.catalog.systems.find((s) => s.id === state.system)?.presets?.find((p) => p.id === state.preset)?.t_end;
+    return readSettings(raw, tEnd);
+  }
+
+  // Writes the view's URL (a setting that does not pass as typed, so a reload shows it
+  // again); returns its query.
+  #url() {
+    const { state } = this.read();
+    const { settings, errors } = this.#settings(state);
+    const shown = { ...settings, orient: this.orient.value };
+    for (const { field } of errors) shown[field] = field === 'steps' ? [this.inputs.steps.value] : this.inputs[field].value;
+    const query = workPrecisionQuery(state, this.catalog, shown);
+    history.replaceState(null, '', `?${query}`);
+    return query;
   }
 
   async load() {
+    this.#clearErrors();
     const { state, invalid } = this.read();
     if (invalid.length) {
-      this.#status('error', `The form has errors (${invalid.map((e) => e.path).join(', ')}): fix them in Explore.`);
+      const names = invalid.map((e) => `${fieldLabel(e.path) ?? e.path}: ${e.message}`).join('; ');
+      this.#fail(`The Explore form has errors (${names}): fix them there.`);
+      this.#markStale('Stale: from the previous request (the new one has errors).');
       return;
     }
-    const settings = this.#settings();
-    const query = workPrecisionQuery(state, this.catalog, settings);
-    history.replaceState(null, '', `?${query}`);
+    const { settings, errors } = this.#settings(state);
+    if (errors.length) {
+      for (const e of errors) this.#fieldError(e.field, e.message);
+      this.#fail(`Not sent: ${errors.map((e) => `${fieldLabel(e.field)}: ${e.message}`).join('; ')}.`);
+      this.#markStale('Stale: from the previous request (the new one has errors).');
+      return;
+    }
+    const query = this.#url();
     this.controller?.abort();
     const mine = new AbortController();
     this.controller = mine;
-    const h = state.step;
-    this.#status('running', `Measuring ${state.methods.length} methods at ${settings.levels} step sizes${h ? ` from h = ${h}` : ''}, ${settings.repeats} repeats each…`);
+    this.#busy(true);
+    this.#markStale(this.answer ? 'Stale: from the previous request, while the new one runs.' : '');
+    const started = performance.now();
+    const what = settings.steps ? `${settings.steps.length} step sizes` : `${settings.levels} step sizes${state.step ? ` from h = ${state.step}` : ''}`;
+    let note = `Measuring ${state.methods.length} methods at ${what}, ${settings.repeats} repeats each`;
+    const tick = () => this.#status('running', `${note}… ${clock(performance.now() - started)} elapsed.`);
+    tick();
+    const timer = setInterval(tick, 500);
     try {
       const answer = await retrying(
         () => fetchWorkPrecision(workPrecisionBody(state, settings), { signal: mine.signal }),
-        (wait) => this.#status('running', `The server is busy; retrying in ${wait} s…`),
+        (wait) => {
+          note = `The server is busy; retrying in ${wait} s`;
+          tick();
+        },
       );
       if (this.controller !== mine) return;
       this.computedFor = query;
-      this.render(answer);
+      this.#render(answer);
+      this.#markStale('');
       const failed = answer.rows.filter((r) => r.status !== 'ok').length;
       const ref = answer.reference;
       const refText = `reference: Dop853, ${ref.steps} steps${ref.cached ? ', cached' : `, ${ref.elapsed_ms.toFixed(1)} ms`}`;
       const scene = answer.scene ? ` on ${sceneCaption(answer.scene, this.catalog)}` : '';
-      this.#status(failed ? 'done-failed' : 'done', `Done: ${answer.rows.length} runs${scene}${failed ? `, ${failed} failed (see the table)` : ''}; ${refText}.`);
+      const took = clock(performance.now() - started);
+      this.#status(failed ? 'done-failed' : 'done', `Done in ${took}: ${answer.rows.length} runs${scene}${failed ? `, ${failed} failed (see the table)` : ''}; ${refText}.`);
     } catch (e) {
-      if (this.controller !== mine || e.name === 'AbortError') return;
-      const where = e instanceof ApiError && e.path ? ` (field ${e.path})` : '';
-      this.#status('error', `Work–precision failed: ${e.message}${where}`);
+      if (this.controller !== mine) return;
+      const previous = this.answer ? 'Stale: from the previous request' : '';
+      if (e.name === 'AbortError') {
+        this.#status('cancelled', `Cancelled after ${clock(performance.now() - started)}; the server stopped.`);
+        this.#markStale(previous && `${previous} (this one was cancelled).`);
+        return;
+      }
+      this.#markStale(previous && `${previous} (this one failed).`);
+      this.#fail(this.#message(e));
     } finally {
-      if (this.controller === mine) this.controller = null;
+      clearInterval(timer);
+      if (this.controller === mine) {
+        this.controller = null;
+        this.#busy(false);
+      }
     }
   }
 
-  render(answer) {
-    const cs = curves(answer);
+  // An error in the page's words: the label of the field it names, marked there.
+  #message(e) {
+    if (!(e instanceof ApiError) || !e.path) return `Work–precision failed: ${e.message}`;
+    const head = e.path.split(/[.[]/)[0];
+    const label = fieldLabel(e.path);
+    if (FIELDS.includes(head)) {
+      this.#fieldError(head, e.message);
+      return `Work–precision failed at ${label}: ${e.message}`;
+    }
+    const marked = this.onFormError(e.path, e.message);
+    return `Work–precision failed at ${label}${marked ? ' (marked in the Explore form)' : ', in the Explore form'}: ${e.message}`;
+  }
+
+  #render(answer) {
     this.answer = answer;
     for (const c of this.charts) c.u.destroy();
-    this.charts = [];
-    const cards = PLOTS.map((p) => {
-      const card = el('section', 'plot-card wp-card');
-      card.dataset.plot = p.key;
-      const head = el('header', 'plot-head');
-      head.append(el('h3', '', p.title), el('span', 'plot-sub', `log–log; x: ${p.x}`));
-      const target = el('div', 'plot');
-      card.append(head, target);
-      const data = uPlot.join(cs.map((c) => [c[p.key].map(([x]) => x), c[p.key].map(([, y]) => y)]));
-      const u = new uPlot(this.#options(cs, p), cs.length ? data : [[]], target);
-      card.uplot = u; // for the browser test: the drawn series
-      this.charts.push({ card, u });
-      return card;
-    });
-    this.plots.replaceChildren(...cards);
-    this.table.replaceChildren(this.#table(cs, answer));
-  }
-
-  #options(cs, plot) {
-    const axis = (label) => ({ label, stroke: '#475569', grid: { stroke: '#e2e8f0' }, ticks: { stroke: '#cbd5e1' }, values: (u, splits) => splits.map(short) });
-    return {
+    const scene = answer.scene ? sceneCaption(answer.scene, this.catalog) : '';
+    this.charts = renderAnswer(answer, {
+      plots: this.plots,
+      table: this.table,
+      orient: ORIENTS.includes(this.orient.value) ? this.orient.value : ORIENTS[0],
+      scene,
+      stem: sceneStem(answer.scene, this.catalog),
       width: this.#width(),
-      height: HEIGHT,
-      scales: { x: { time: false, distr: 3, log: 10, range: decadeRange }, y: { distr: 3, log: 10, range: decadeRange } },
-      axes: [axis(plot.x), { ...axis('final error ‖(q, q̇) − reference‖∞'), size: 70 }],
-      series: [
-        { label: plot.x },
-        ...cs.map((c, i) => ({
-          label: legendLabel(c, plot.key),
-          stroke: runColor(i),
-          // Points shrink with i as the lines do (runWidth), for the same halo.
-          width: runWidth(i),
-          spanGaps: true,
-          points: { show: true, size: Math.max(5, 11 - i), fill: runColor(i) },
-        })),
-      ],
-      legend: { live: false },
-    };
+      catalog: this.catalog,
+    });
   }
 
-  // Per method: the fitted order, then each step's final error (or "failed" with the reason).
-  #table(cs, answer) {
-    const steps = [...new Set(answer.rows.map((r) => r.step))];
-    const table = el('table', 'runs wp-orders');
-    const head = el('tr');
-    head.append(el('th', '', 'Method'), el('th', 'num', 'Order (slope vs h)'));
-    for (const h of steps) head.append(el('th', 'num', `h = ${short(h)}`));
-    const thead = el('thead');
-    thead.append(head);
-    const tbody = el('tbody');
-    cs.forEach((c, i) => {
-      const tr = el('tr', 'wp-method');
-      tr.dataset.method = c.label;
-      const name = el('th');
-      const swatch = el('span', 'swatch');
-      swatch.style.background = runColor(i);
-      name.append(swatch, c.label);
-      const order = el('td', 'num slope', formatOrder(c.order));
-      order.dataset.order = c.order ?? '';
-      tr.append(name, order);
-      for (const h of steps) {
-        const row = c.rows.find((r) => r.step === h);
-        if (!row) tr.append(el('td', 'num', ''));
-        else if (row.status !== 'ok') {
-          const td = el('td', 'num');
-          const badge = el('span', 'badge failed', 'failed');
-          badge.title = row.error ?? 'failed';
-          td.append(badge);
-          td.classList.add('failed');
-          tr.append(td);
-        } else {
-          const td = el('td', 'num', row.final_error > 0 ? row.final_error.toExponential(2) : String(row.final_error));
-          td.title = `${row.steps} steps, ${row.elapsed_ms} ms`;
-          tr.append(td);
-        }
-      }
-      tbody.append(tr);
-    });
-    table.append(thead, tbody);
-    // Every failure with the server's message, so none is silent.
-    const failures = el('ul', 'wp-failures');
-    for (const c of cs) {
-      for (const r of c.failed) failures.append(el('li', '', `${c.label} at h = ${short(r.step)} failed: ${r.error ?? 'no message'}`));
+  #fieldError(field, message) {
+    const input = this.inputs[field];
+    const box = input.closest('.wp-field');
+    box.classList.add('invalid');
+    input.setAttribute('aria-invalid', 'true');
+    const p = el('p', 'field-error', `${fieldLabel(field)}: ${message}`);
+    p.setAttribute('role', 'alert');
+    box.append(p);
+  }
+
+  #clearErrors() {
+    for (const p of this.root.querySelectorAll('.wp-field .field-error')) p.remove();
+    for (const f of FIELDS) {
+      this.inputs[f].closest('.wp-field').classList.remove('invalid');
+      this.inputs[f].removeAttribute('aria-invalid');
     }
-    const wrap = el('div');
-    wrap.append(table);
-    if (failures.children.length) wrap.append(failures);
-    return wrap;
+  }
+
+  // Dims the plots and table with a note, or (empty text) shows them as current.
+  #markStale(text) {
+    const stale = Boolean(text) && Boolean(this.answer);
+    this.stale.hidden = !stale;
+    this.stale.textContent = stale ? text : '';
+    this.plots.classList.toggle('stale', stale);
+    this.table.classList.toggle('stale', stale);
+  }
+
+  #busy(busy) {
+    this.cancel.disabled = !busy;
+    this.progress.hidden = !busy;
+  }
+
+  #fail(text) {
+    this.#status('error', text);
   }
 
   #width() {
     const w = this.plots.clientWidth || 900;
-    return Math.max(320, Math.floor(w >= 900 ? w / 2 - 40 : w - 34));
+    return Math.max(220, Math.floor(w >= 900 ? w / 2 - 40 : w - 34));
   }
 
   #resize() {
@@ -201,28 +218,4 @@ export class WorkPrecisionView {
     this.status.dataset.state = state;
     this.status.textContent = text;
   }
-}
-
-/** Whole decades around the data (one more on each side of a single value). */
-function decadeRange(u, min, max) {
-  if (!(min > 0) || !(max > 0)) return [1e-3, 1];
-  const lo = Math.floor(Math.log10(min) + 1e-9);
-  let hi = Math.ceil(Math.log10(max) - 1e-9);
-  if (hi <= lo) return [10 ** (lo - 1), 10 ** (lo + 1)];
-  return [10 ** lo, 10 ** hi];
-}
-
-/** A legend entry: the label, the fitted order on the h plot, the failures on both. */
-function legendLabel(c, key) {
-  const parts = [];
-  if (key === 'step') parts.push(`order ${formatOrder(c.order)}`);
-  if (c.failed.length) parts.push(`${c.failed.length} failed`);
-  return parts.length ? `${c.label} (${parts.join(', ')})` : c.label;
-}
-
-// 0.000123 → "1.2e-4"; 0.5 → "0.5": axis ticks and table heads stay short.
-function short(v) {
-  if (v === null || v === undefined) return '';
-  const a = Math.abs(v);
-  return a !== 0 && (a < 1e-3 || a >= 1e4) ? v.toExponential(1).replace('e-', 'e−') : String(Number(v.toPrecision(3)));
 }

@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { curves, decodeSettings, fitSlope, formatOrder, plottable, workPrecisionBody, workPrecisionQuery } from '../src/precision.js';
+import { ORIENTS, curves, decodeSettings, fitSlope, formatOrder, plottable, readSettings, workPrecisionBody, workPrecisionQuery } from '../src/precision.js';
 import { defaultState } from '../src/state.js';
 
 const catalog = {
@@ -86,7 +86,44 @@ test('the view and its settings round-trip through the URL', () => {
   state.t_end = 10;
   const q = workPrecisionQuery(state, catalog, { levels: 6, repeats: 3 });
   assert.equal(q, 'view=work-precision&system=knife_edge&preset=paper&t_end=10&levels=6');
-  assert.deepEqual(decodeSettings(q), { levels: 6, repeats: 3 });
-  assert.deepEqual(decodeSettings('levels=99&repeats=0'), { levels: 12, repeats: 1 });
-  assert.deepEqual(decodeSettings('levels=x'), { levels: 4, repeats: 3 });
+  assert.deepEqual(decodeSettings(q), { levels: '6', repeats: '3', steps: '', orient: 'time-x' });
+  // Bad values stay as typed, to be reported at their field rather than replaced.
+  assert.deepEqual(decodeSettings('levels=0&repeats=x'), { levels: '0', repeats: 'x', steps: '', orient: 'time-x' });
+  // A list of steps replaces levels; the DiffEqDevTools orientation is kept.
+  const q2 = workPrecisionQuery(state, catalog, { levels: 6, repeats: 2, steps: [0.1, 0.05], orient: 'error-x' });
+  assert.equal(q2, 'view=work-precision&system=knife_edge&preset=paper&t_end=10&steps=0.1,0.05&repeats=2&orient=error-x');
+  assert.deepEqual(decodeSettings(q2), { levels: '4', repeats: '2', steps: '0.1,0.05', orient: 'error-x' });
+  assert.equal(decodeSettings('orient=sideways').orient, 'time-x');
+});
+
+test('step sizes: 0, negative, empty or too many are errors at their field, never a silent 1', () => {
+  const ok = readSettings({ levels: '5', repeats: '2', steps: '' }, 100);
+  assert.deepEqual(ok, { settings: { levels: 5, repeats: 2, steps: null }, errors: [] });
+  for (const levels of ['0', '-2', '', '1.5', '13', 'x']) {
+    const { errors } = readSettings({ levels, repeats: '3', steps: '' }, 100);
+    assert.deepEqual(errors.map((e) => e.field), ['levels'], `levels = ${JSON.stringify(levels)}`);
+  }
+  assert.match(readSettings({ levels: '0', repeats: '3' }, 100).errors[0].message, /0 would measure nothing/);
+  assert.deepEqual(readSettings({ levels: '4', repeats: '0' }, 100).errors.map((e) => e.field), ['repeats']);
+  assert.deepEqual(readSettings({ levels: '4', repeats: '11' }, 100).errors.map((e) => e.field), ['repeats']);
+});
+
+test('a list of steps replaces levels; each must lie in (0, t_end]', () => {
+  const { settings, errors } = readSettings({ levels: '0', repeats: '1', steps: '0.1, 0.05 0.025' }, 10);
+  assert.deepEqual(errors, [], 'levels is not read when steps are given');
+  assert.deepEqual(settings.steps, [0.1, 0.05, 0.025]);
+  const body = workPrecisionBody(defaultState(catalog, 'knife_edge', 'paper'), settings);
+  assert.deepEqual([body.steps, body.levels, body.repeats], [[0.1, 0.05, 0.025], undefined, 1]);
+  const error = (steps, tEnd = 10) => readSettings({ levels: '4', repeats: '3', steps }, tEnd).errors;
+  assert.match(error('0.1, 0')[0].message, /positive \(h = 0 never reaches/);
+  assert.equal(error('0.1, 0')[0].field, 'steps');
+  assert.match(error('-0.1')[0].message, /positive/);
+  assert.match(error('0.1, abc')[0].message, /numbers/);
+  assert.match(error('20')[0].message, /at most the final time 10/);
+  assert.deepEqual(error('20', null), [], 'without a final time the server checks');
+  assert.match(error(Array.from({ length: 13 }, (_, i) => 0.1 / (i + 1)).join(','))[0].message, /at most 12/);
+});
+
+test('the time plot can be drawn with error on x and time on y', () => {
+  assert.deepEqual(ORIENTS, ['time-x', 'error-x']);
 });

@@ -62,3 +62,27 @@ test('the run event carries the verdicts; the JSON download puts each on its ser
   assert.deepEqual(r.toJSON().runs[0].series.energy.verdict, verdict);
   assert.equal(r.toJSON().runs[1].series.energy.verdict, null, 'no verdict before the run ends');
 });
+
+test('progress carries the steps so far; a cancelled run keeps them and the time it ran', () => {
+  let now = 1000;
+  const r = new Result(scene, () => now);
+  now = 3500;
+  r.progress({ run: 0, t: 40, fraction: 0.4, steps: 128 });
+  assert.deepEqual([r.runs[0].steps, r.runs[0].t, r.runs[0].live_ms], [128, 40, 2500]);
+  now = 5000;
+  assert.equal(r.elapsed, 4000);
+  r.interrupt('cancelled');
+  assert.deepEqual([r.runs[0].status, r.runs[0].steps, r.runs[0].live_ms], ['cancelled', 128, 4000]);
+  assert.equal(r.runs[1].steps, null, 'a run without progress has no steps to show');
+});
+
+test('a series gap from the run event travels with the series, as in the JSON response', () => {
+  const r = new Result(scene);
+  const gap = { since: 72016.9, reason: 'passenger_at_rest', message: 'no value since t = 72017: the passenger is at rest' };
+  r.finishRun({ run: 0, status: 'ok', steps: 1, elapsed_ms: 1, gaps: { energy: gap } });
+  r.finishRun({ run: 1, status: 'ok', steps: 1, elapsed_ms: 1 });
+  const json = r.toJSON();
+  assert.deepEqual(json.runs[0].series.energy.gap, gap);
+  assert.equal(json.runs[1].series.energy.gap, null);
+  assert.deepEqual(r.runs[1].gaps, {});
+});

@@ -138,3 +138,14 @@ test('a composition travels in the link and the request body', () => {
   assert.deepEqual(other.state.methods, [{ id: 'rk4', params: {} }]);
   assert.match(other.warnings.join(' '), /rk4 takes no composition/);
 });
+
+test('an empty Step field survives the URL as empty, not as 0', async () => {
+  const { readFileSync } = await import('node:fs');
+  const { decodeState: decode, defaultState: initial, encodeState: encode } = await import('../src/state.js');
+  const catalog = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
+  const state = initial(catalog, 'knife_edge', 'paper');
+  state.step = null;
+  const query = encode(state, catalog);
+  assert.match(query, /(^|&)step=(&|$)/);
+  assert.equal(decode(query, catalog).state.step, null);
+});

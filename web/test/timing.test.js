@@ -20,3 +20,18 @@ test('a running run shows a dash; a run of no steps shows only its time', () => 
   assert.equal(timing({ steps: null, elapsed_ms: null, cpu_ms: null }).text, '–');
   assert.equal(timing({ steps: 0, elapsed_ms: 0.5, cpu_ms: 0.25 }).text, '0.3 ms CPU');
 });
+
+test('a running run shows its time so far and the time left; a cancelled one keeps its time', async () => {
+  const { clock, eta, progressNote } = await import('../src/timing.js');
+  assert.equal(eta(10_000, 0.25), 30_000);
+  assert.equal(eta(10_000, 0), null, 'no estimate without progress');
+  assert.equal(eta(100, 0.5), null, 'no estimate in the first half second');
+  assert.equal(eta(10_000, 1), null);
+  assert.deepEqual([450, 12_300, 200_000, 3_900_000].map(clock), ['450 ms', '12 s', '3 min 20 s', '1 h 05 min']);
+  assert.equal(progressNote(10_000, 0.25), '10 s elapsed, about 30 s left');
+  assert.equal(progressNote(200, 0.25), '200 ms elapsed');
+  assert.equal(timing({ status: 'running', live_ms: 10_000, fraction: 0.5, elapsed_ms: null }).text, '10 s, ~10 s left');
+  const cancelled = timing({ status: 'cancelled', live_ms: 4_000, fraction: 0.5, elapsed_ms: null, steps: 1200 });
+  assert.equal(cancelled.text, '4 s (partial)');
+  assert.match(cancelled.title, /cancelled/);
+});

@@ -8,6 +8,8 @@
 //!    reaches 100 %, every run ends `ok`, and the console has no errors; a screenshot goes to
 //!    `<target>/screenshots/knife-edge.png`;
 //! 2. runs that fail (a step far too large) are marked failed, with the server's message;
+//!    DLA^0.4's latitude on the rotating pendulum CVT stops at t ≈ 7·10⁴ (the passenger at
+//!    rest) and the page says so under the plot and in the runs table (`gap.png`);
 //! 3. a long run shows curves before it ends, and Cancel stops it;
 //! 4. editing the form rewrites the URL, and that URL restores the form;
 //! 5. a link with a bad parameter and `run=1` fills the form, runs by itself, and shows the
@@ -33,6 +35,22 @@
 //!     curve drawn (`map-opened.png`); a one-axis link with `run=1` draws a cell strip and a
 //!     line per method (`map-one-axis.png`); an axis path the server rejects is marked at its
 //!     field (`map-bad-axis.png`).
+//! 11. at 400, 800 and 1400 px the rotating, perturbed experiment (one click) brings its status
+//!     line and first plot into view, scrolling only when they were off screen
+//!     (`width-400.png`, …); no view scrolls sideways at 360, 400, 800 or 1400 px; every
+//!     legend entry and runs-table row shows its run's verdict, with the numbers on hover; a
+//!     second run with another method list draws LF and DD in the same colours and markers,
+//!     a composition in its base's colour, dashed;
+//! 12. a plot's PNG and SVG export downloads `nhlab-knife_edge-paper-energy.png` / `.svg`
+//!     (a PNG's bytes, an SVG path per curve); the card names its scene and its canvas has a
+//!     text alternative; a diverged run is clipped off the y-range with a note saying so; a
+//!     3·10⁶ time axis has short tick labels, a long run shows its elapsed time, and Cancel
+//!     keeps the steps and time of the run; an empty Step field runs and reports the preset's
+//!     step, and the sticky Run bar does not cover it;
+//! 13. Work–precision names its scene on every plot card and takes the DiffEqDevTools
+//!     orientation from the URL; 0 step sizes is refused at the "Step sizes" field, the
+//!     previous plots marked stale (`work-precision-zero-steps.png`); a list of steps runs
+//!     those steps, a 0 in it refused at its field; Cancel stops a long request.
 //!
 //! Chromium and chromedriver are required, not optional: without them the test fails and
 //! says how to install them. `NHLAB_CHROMIUM` / `NHLAB_CHROMEDRIVER` override their paths.
@@ -40,18 +58,26 @@
 mod custom;
 mod driver;
 mod explore;
+mod export;
 mod maps;
 mod page;
+mod precision;
 mod views;
+mod widths;
 
 use custom::custom_system;
 use driver::{Driver, required};
-use explore::{bad_parameter_link, cancel, composition, failed_runs, form_in_the_url, knife_edge};
+use explore::{
+    bad_parameter_link, cancel, composition, failed_runs, form_in_the_url, gap_message, knife_edge,
+};
+use export::plot_export;
 use fantoccini::Client;
 use maps::map_view;
 use nhlab_tests::TestServer;
+use precision::work_precision_controls;
 use std::time::Duration;
 use views::{paper_view, scorecard_view, work_precision_view};
+use widths::window_widths;
 
 /// How long a run of the knife-edge experiment may take in a debug build on a slow machine.
 const RUN_TIMEOUT: Duration = Duration::from_secs(120);
@@ -76,6 +102,7 @@ async fn the_page_runs_the_knife_edge_experiment_in_a_real_browser() {
 async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), String> {
     knife_edge(client, driver, base).await?;
     failed_runs(client, driver, base).await?;
+    gap_message(client, driver, base).await?;
     cancel(client, driver, base).await?;
     form_in_the_url(client, driver, base).await?;
     bad_parameter_link(client, base).await?;
@@ -84,5 +111,8 @@ async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), S
     paper_view(client, driver, base).await?;
     scorecard_view(client, driver, base).await?;
     work_precision_view(client, driver, base).await?;
-    map_view(client, driver, base).await
+    map_view(client, driver, base).await?;
+    window_widths(client, driver, base).await?;
+    plot_export(client, driver, base).await?;
+    work_precision_controls(client, driver, base).await
 }

@@ -111,7 +111,7 @@ pub(crate) async fn map_view(client: &Client, driver: &Driver, base: &str) -> Re
     let plot = js(client, PLOT_REPORT).await?;
     let series = plot["series"].as_array().ok_or("no energy chart in Explore")?;
     assert_eq!(series.len(), 1, "one curve, the cell's method: {plot}");
-    assert_eq!(series[0]["label"], json!("DLA^0.3"), "{plot}");
+    assert_eq!(series[0]["label"], json!("DLA⁰·³"), "{plot}");
     assert_eq!(series[0]["drawn"], json!(true), "{plot}");
     screenshot(client, "map-opened.png").await;
     console_clean(driver, client, "map cell opened").await?;
@@ -135,7 +135,7 @@ async fn one_axis(client: &Client, driver: &Driver, base: &str) -> Result<(), St
     assert_eq!([&report["cells"], &report["drawn"]], [&json!(5), &json!(5)], "{report}");
     let lines = report["lines"].as_array().ok_or_else(|| format!("no line plot: {report}"))?;
     let labels: Vec<&str> = lines.iter().map(|l| l["label"].as_str().unwrap_or("?")).collect();
-    assert_eq!(labels, ["DLA^0.5", "DLA^0.4", "DLA^{0,1}", "LF", "DD"], "a line per method");
+    assert_eq!(labels, ["DLA⁰·⁵", "DLA⁰·⁴", "DLA⁰˒¹", "LF", "DD"], "a line per method");
     for l in lines {
         assert_eq!(l["drawn"], json!(true), "{report}");
         assert!(l["points"].as_u64().unwrap_or(0) >= 3, "a line lacks points: {report}");

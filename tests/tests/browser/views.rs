@@ -34,7 +34,8 @@ pub(crate) async fn paper_view(client: &Client, driver: &Driver, base: &str) -> 
     for p in panels {
         let series = p["series"].as_array().ok_or_else(|| format!("panel without a chart: {p}"))?;
         let labels: Vec<&str> = series.iter().map(|s| s["label"].as_str().unwrap_or("?")).collect();
-        assert_eq!(labels, ["DLA^0.5", "DLA^0.4", "DLA^{0,1}", "LF", "DD"], "{p}");
+        // The paper's labels for people: exponents as superscripts, no TeX braces.
+        assert_eq!(labels, ["DLA⁰·⁵", "DLA⁰·⁴", "DLA⁰˒¹", "LF", "DD"], "{p}");
         for s in series {
             assert_eq!(s["drawn"], json!(true), "a curve is not drawn: {p}");
             assert!(s["points"].as_u64().unwrap_or(0) >= 50, "a curve lacks data: {p}");

@@ -1,0 +1,94 @@
+// Words the page shows for things the API names by id: a method's label with its TeX-like
+// exponent (`X^{0,1}`, `X^0.5`) written with superscripts, a request field's path
+// (`levels`, `params.epsilon`, `methods[1].alpha`) as the label the user sees beside that
+// field, and a scene as a file name. Pure functions, so node tests cover them.
+
+import { isCustom, systemName } from './custom.js';
+
+const SUPER = {
+  0: '⁰', 1: '¹', 2: '²', 3: '³', 4: '⁴', 5: '⁵', 6: '⁶', 7: '⁷', 8: '⁸', 9: '⁹',
+  '-': '⁻', '+': '⁺', '=': '⁼', '(': '⁽', ')': '⁾', '.': '·', ',': '˒', 'α': 'ᵅ', 'β': 'ᵝ', n: 'ⁿ', i: 'ⁱ',
+};
+
+/** A method label for people: `A^{0,1}` → `A⁰˒¹`, `A^0.4` → `A⁰·⁴`; an exponent
+ *  with a character that has no superscript keeps a plain `^(…)`. */
+export function humanLabel(label) {
+  return String(label ?? '').replace(/\^(?:\{([^}]*)\}|([0-9.,+\-=()αβni]+))/g, (whole, braced, bare) => {
+    const text = braced ?? bare;
+    const chars = [...text];
+    if (chars.length && chars.every((c) => SUPER[c])) return chars.map((c) => SUPER[c]).join('');
+    return braced === undefined ? whole : `^(${text})`;
+  });
+}
+
+/** An integral's name for people. */
+export const INTEGRAL_LABEL = {
+  energy: 'energy H',
+  passenger_energy: 'passenger energy E',
+  driver_energy: 'driver energy h',
+  latitude: 'latitude ℓ',
+  constraint: 'constraint residual',
+};
+
+/** An integral id's label (the id itself when unknown). */
+export function integralLabel(id) {
+  return INTEGRAL_LABEL[id] ?? String(id);
+}
+
+/** The labels of the Explore form's fields and the Work–precision settings, by API path. */
+const FIELDS = {
+  system: 'System',
+  preset: 'Preset',
+  params: 'Parameters',
+  q: 'q(0)',
+  v: 'q̇(0)',
+  step: 'Step h',
+  t_end: 'Final time',
+  points: 'Points per curve',
+  methods: 'Methods',
+  integrals: 'Integrals',
+  window: 'Running-mean window',
+  levels: 'Step sizes',
+  steps: 'Steps h',
+  repeats: 'Repeats',
+};
+
+const GREEK = 'alpha beta gamma delta epsilon zeta eta theta iota kappa lambda mu nu xi omicron pi rho sigma tau upsilon phi chi psi omega'.split(' ');
+
+function symbol(name) {
+  const i = GREEK.indexOf(name);
+  return i < 0 ? name : String.fromCodePoint(0x3b1 + i + (i >= 17 ? 1 : 0));
+}
+
+/**
+ * The label the page shows for an API field path: `levels` → "Step sizes",
+ * `params.epsilon` → "ε (epsilon)", `methods[1].alpha` → "method 2, α", `q[2]` → "q(0),
+ * entry 3", `system.constraints[0][1]` → "System (constraints…)"; null for no path.
+ */
+export function fieldLabel(path) {
+  if (!path) return null;
+  const m = /^([a-z_]+)(.*)$/i.exec(path);
+  if (!m) return path;
+  const [, head, rest] = m;
+  if (head === 'params' && rest.startsWith('.')) {
+    const name = rest.slice(1);
+    const s = symbol(name);
+    return s === name ? name : `${s} (${name})`;
+  }
+  if (head === 'methods') {
+    const item = /^\[(\d+)\](?:\.(\w+))?/.exec(rest);
+    if (item) return `method ${Number(item[1]) + 1}${item[2] ? `, ${item[2] === 'composition' ? 'composition' : symbol(item[2])}` : ''}`;
+  }
+  const base = FIELDS[head] ?? head;
+  const index = /^\[(\d+)\]$/.exec(rest);
+  if (index) return `${base}, entry ${Number(index[1]) + 1}`;
+  if (head === 'system' && rest) return `${base} (${rest.replace(/^\./, '')})`;
+  return rest ? `${base} ${rest}` : base;
+}
+
+/** A scene as a file-name stem: `nhlab-<system>-<preset>` (a custom system by its name). */
+export function sceneStem(scene, catalog) {
+  const slug = (s) => String(s).toLowerCase().replace(/[^a-z0-9_]+/g, '-').replace(/^-|-$/g, '');
+  const system = isCustom(scene?.system) ? slug(systemName(scene.system, catalog)) || 'custom' : slug(scene?.system ?? 'scene');
+  return ['nhlab', system, scene?.preset ? slug(scene.preset) : ''].filter(Boolean).join('-');
+}
