@@ -161,25 +161,28 @@ fn shard(
         serde_json::to_string(&sweep.head).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     let cells: Vec<usize> = (0..sweep.cells.len()).filter(|c| c % count == index).collect();
     let cancel = Cancel::default();
+    let stop = cancel.clone();
     let (tx, rx) = mpsc::sync_channel(1);
-    std::thread::scope(|scope| {
-        scope.spawn(|| {
-            let mut rows: Vec<(usize, Vec<String>)> = Vec::with_capacity(cells.len());
-            let computed = shards::compute(&sweep, &cells, threads, &cancel, |cell| {
-                let lines = cell.rows.iter().map(serde_json::to_string).collect::<Result<_, _>>();
-                let lines = lines.map_err(|e| shards::ShardError::Incomplete(e.to_string()))?;
-                rows.push((cell.cell, lines));
-                Ok(())
-            });
-            let result = computed.map_err(|e| PyRuntimeError::new_err(e.to_string())).map(|()| {
-                rows.sort_by_key(|(c, _)| *c);
-                rows.into_iter().flat_map(|(_, r)| r).collect::<Vec<String>>()
-            });
-            let _ = tx.send(result);
+    // A thread of its own (not scoped), so that on a signal the call can give up the GIL
+    // while it waits for the workers to see the cancel and return.
+    let worker = std::thread::spawn(move || {
+        let mut rows: Vec<(usize, Vec<String>)> = Vec::with_capacity(cells.len());
+        let computed = shards::compute(&sweep, &cells, threads, &cancel, |cell| {
+            let lines = cell.rows.iter().map(serde_json::to_string).collect::<Result<_, _>>();
+            let lines = lines.map_err(|e| shards::ShardError::Incomplete(e.to_string()))?;
+            rows.push((cell.cell, lines));
+            Ok(())
         });
-        // On a signal the runs stop; the scope then waits for the workers to return.
-        wait(py, rx, || cancel.cancel()).map(|rows| (head, rows))
-    })
+        let result = computed.map_err(|e| PyRuntimeError::new_err(e.to_string())).map(|()| {
+            rows.sort_by_key(|(c, _)| *c);
+            rows.into_iter().flat_map(|(_, r)| r).collect::<Vec<String>>()
+        });
+        let _ = tx.send(result);
+    });
+    let answer = wait(py, rx, || stop.cancel());
+    py.detach(|| worker.join())
+        .map_err(|_| PyRuntimeError::new_err("the sweep's worker panicked"))?;
+    answer.map(|rows| (head, rows))
 }
 
 /// `check(spec) -> head`: the head of the sweep `spec` (its axes with their values, methods,

@@ -104,6 +104,10 @@ def test_sweep_equals_post_sweep_and_goes_to_pandas(http):
     assert isinstance(frame, pd.DataFrame) and len(frame) == 12
     assert list(frame.columns[:5]) == ["cell", "methods.alpha", "params.epsilon", "method_index", "method"]
     assert frame["energy.kind"].tolist() == [r["verdicts"]["energy"]["kind"] for r in answer["rows"]]
+    # The columns of the CSV answer, in its order (its last, the simulate body, aside).
+    status, csv_text = http.call("POST", "/sweep", SWEEP, accept="text/csv")
+    assert status == 200
+    assert list(frame.columns) == csv_text.splitlines()[0].split(",")[:-1]
 
 
 @pytest.mark.parametrize("call, path, body", [
@@ -169,6 +173,10 @@ import json, os, signal, sys, threading, time
 import nhlab
 from nhlab import _nhlab
 
+# Python keeps SIGINT ignored when it starts with it ignored (a background job of a script,
+# as CI may run it); a terminal's Ctrl-C raises KeyboardInterrupt: make it so here too.
+signal.signal(signal.SIGINT, signal.default_int_handler)
+
 def interrupted(call):
     threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()
     start = time.perf_counter()
@@ -201,5 +209,6 @@ def test_ctrl_c_stops_a_long_call_and_its_runs():
     for call in ("request", "shard"):
         elapsed, cpu_after = result[call]
         assert elapsed < 3.0, (call, elapsed)
-        assert cpu_after < 0.3, (call, cpu_after)
+        # Runs left behind would burn a second or more of CPU each.
+        assert cpu_after < 0.6, (call, cpu_after)
     assert result["after"] == "ok"
