@@ -108,6 +108,25 @@ async fn systems_lists_systems_presets_and_methods() {
     assert_eq!(body["limits"]["max_points"], 100_000);
 }
 
+/// The page's node tests read `GET /systems` from a saved copy: it must be what the server
+/// answers (but the number of simulation slots, which is the machine's number of cores).
+/// Refresh it with `curl -s localhost:8080/systems | python3 -m json.tool --indent 1
+/// --no-ensure-ascii > web/test/fixtures/systems.json`.
+#[tokio::test]
+async fn the_page_tests_catalog_is_the_servers() {
+    let server = TestServer::start().await;
+    let mut served: Value = get(&server, "/systems").await.json().await.unwrap();
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../web/test/fixtures/systems.json");
+    let mut saved: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    for catalog in [&mut served, &mut saved] {
+        catalog["limits"]["max_simulations"] = Value::Null;
+    }
+    assert!(
+        served == saved,
+        "web/test/fixtures/systems.json differs from GET /systems: refresh it"
+    );
+}
+
 #[tokio::test]
 async fn openapi_describes_the_api() {
     let server = TestServer::start().await;

@@ -98,8 +98,9 @@ export function retryAfter(error) {
 }
 
 /** Runs `attempt` until it does not fail with a 503, calling `onWait(seconds)` before each
- *  retry; any other failure (an abort included) is thrown. */
-export async function retrying(attempt, onWait) {
+ *  retry; any other failure (an abort included) is thrown. An abort of `signal` during a
+ *  wait ends the wait at once with an `AbortError`. */
+export async function retrying(attempt, onWait, signal) {
   for (;;) {
     try {
       return await attempt();
@@ -107,7 +108,24 @@ export async function retrying(attempt, onWait) {
       const wait = retryAfter(e);
       if (wait === null) throw e;
       onWait(wait);
-      await new Promise((r) => setTimeout(r, wait * 1000));
+      await pause(wait * 1000, signal);
     }
   }
+}
+
+// Waits `ms`, or rejects with an `AbortError` as soon as `signal` aborts.
+function pause(ms, signal) {
+  return new Promise((resolve, reject) => {
+    const aborted = () => reject(new DOMException('The wait was aborted.', 'AbortError'));
+    if (signal?.aborted) return aborted();
+    const timer = setTimeout(() => {
+      signal?.removeEventListener('abort', onAbort);
+      resolve();
+    }, ms);
+    const onAbort = () => {
+      clearTimeout(timer);
+      aborted();
+    };
+    signal?.addEventListener('abort', onAbort, { once: true });
+  });
 }

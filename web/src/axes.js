@@ -5,6 +5,7 @@
 // functions, so node tests cover them.
 
 import { FLOOR } from './series.js';
+import { superscript } from './labels.js';
 
 /** An error above this, with another run staying below it, marks a run as off the scale. */
 export const DIVERGED = 1e8;
@@ -86,12 +87,10 @@ export function decades(min, max, height) {
   return out;
 }
 
-const SUPERSCRIPT = { '-': '⁻', 0: '⁰', 1: '¹', 2: '²', 3: '³', 4: '⁴', 5: '⁵', 6: '⁶', 7: '⁷', 8: '⁸', 9: '⁹' };
-
 // 1e-12 → "10⁻¹²"; 1 and 10 as themselves.
 export function power(v) {
   const e = Math.round(Math.log10(v));
   if (e === 0) return '1';
   if (e === 1) return '10';
-  return `10${String(e).replace(/./g, (c) => SUPERSCRIPT[c])}`;
+  return `10${superscript(e)}`;
 }

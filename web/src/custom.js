@@ -2,7 +2,8 @@
 // (name, passenger and driver names, parameters with their values, the potentials U and V_d,
 // the passenger columns of the constraint matrix A(ζ)). Pure functions over that object: a
 // copy of a built-in's `formulas` from the catalog, the integrals the server may offer, its
-// URL form, and the labels that name a scene's system, built-in or not.
+// URL form, and the labels that name a scene's system, built-in or not (in words and as a
+// file-name stem).
 
 import { findPreset, findSystem, presetLabel } from './catalog.js';
 
@@ -181,4 +182,11 @@ function joinItems(items) {
 function splitItems(text) {
   if (text === '') return [];
   return text.split(',').map((s) => s.replace(/%(25|2C)/gi, (m) => (m === '%25' ? '%' : ',')));
+}
+
+/** A scene as a file-name stem: `nhlab-<system>-<preset>` (a custom system by its name). */
+export function sceneStem(scene, catalog) {
+  const slug = (s) => String(s).toLowerCase().replace(/[^a-z0-9_]+/g, '-').replace(/^-|-$/g, '');
+  const system = isCustom(scene?.system) ? slug(systemName(scene.system, catalog)) || 'custom' : slug(scene?.system ?? 'scene');
+  return ['nhlab', system, scene?.preset ? slug(scene.preset) : ''].filter(Boolean).join('-');
 }

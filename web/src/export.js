@@ -5,9 +5,9 @@
 // (palette.js), the legend and the SVG carry each method's marker too.
 
 import { download, el } from './dom.js';
-import { addMarker, isOpen, svgPen } from './palette.js';
+import { addMarker, markerFill, svgPen } from './palette.js';
 
-const FONT = 'system-ui, -apple-system, "Segoe UI", Roboto, Arial, sans-serif';
+export const FONT = 'system-ui, -apple-system, "Segoe UI", Roboto, Arial, sans-serif';
 
 /**
  * "PNG" and "SVG" buttons for a chart. `describe()` gives `{title, caption, stem, styles,
@@ -15,21 +15,27 @@ const FONT = 'system-ui, -apple-system, "Segoe UI", Roboto, Arial, sans-serif';
  * i + 1; `floor`, the y of a round-off floor line); `chart()` the uPlot instance.
  */
 export function exportButtons(chart, describe) {
+  return fileButtons(describe, { png: (d) => chartCanvas(chart(), d), svg: (d) => chartSvg(chart(), d) });
+}
+
+/** "PNG" and "SVG" buttons for any picture: `png(d)` draws it on a canvas, `svg(d)` writes
+ *  it as SVG text, `d` being `describe()` at click time (with the file's `stem`). */
+export function fileButtons(describe, { png, svg }) {
   const box = el('span', 'plot-export');
-  const png = el('button', 'secondary small export-png', 'PNG');
-  const svg = el('button', 'secondary small export-svg', 'SVG');
-  png.type = svg.type = 'button';
-  png.title = 'Download this plot as a PNG image';
-  svg.title = 'Download this plot as an SVG drawing';
-  png.addEventListener('click', () => {
+  const pngButton = el('button', 'secondary small export-png', 'PNG');
+  const svgButton = el('button', 'secondary small export-svg', 'SVG');
+  pngButton.type = svgButton.type = 'button';
+  pngButton.title = 'Download this plot as a PNG image';
+  svgButton.title = 'Download this plot as an SVG drawing';
+  pngButton.addEventListener('click', () => {
     const d = describe();
-    chartCanvas(chart(), d).toBlob((blob) => blob && download(`${d.stem}.png`, 'image/png', blob), 'image/png');
+    png(d).toBlob((blob) => blob && download(`${d.stem}.png`, 'image/png', blob), 'image/png');
   });
-  svg.addEventListener('click', () => {
+  svgButton.addEventListener('click', () => {
     const d = describe();
-    download(`${d.stem}.svg`, 'image/svg+xml', chartSvg(chart(), d));
+    download(`${d.stem}.svg`, 'image/svg+xml', svg(d));
   });
-  box.append(png, svg);
+  box.append(pngButton, svgButton);
   return box;
 }
 
@@ -48,8 +54,8 @@ function entries(u, styles) {
     }));
 }
 
-// Words of `text` in lines no wider than `width` (measured with `measure`).
-function wrap(text, width, measure) {
+/** Words of `text` in lines no wider than `width` (measured with `measure`). */
+export function wrap(text, width, measure) {
   const lines = [];
   let line = '';
   for (const word of String(text ?? '').split(/\s+/).filter(Boolean)) {
@@ -123,8 +129,11 @@ export function chartCanvas(u, { title = '', caption = '', styles = null } = {})
         const mark = new Path2D();
         addMarker(mark, item.style.marker, pad + item.x + 12 * r, mid, 4 * r);
         ctx.lineWidth = 1.25 * r;
-        ctx.fillStyle = item.style.hollow ? '#fff' : item.color;
-        if (!isOpen(item.style.marker)) ctx.fill(mark);
+        const fill = markerFill(item.style, item.color);
+        if (fill !== 'none') {
+          ctx.fillStyle = fill;
+          ctx.fill(mark);
+        }
         ctx.stroke(mark);
       }
       ctx.fillStyle = '#0f172a';
@@ -215,7 +224,7 @@ export function chartSvg(u, { title = '', caption = '', styles = null, floor = n
         const py = ys[k] === null || ys[k] === undefined ? NaN : u.valToPos(ys[k], s.scale ?? 'y');
         if (Number.isFinite(px) && Number.isFinite(py)) addMarker(pen, item.style.marker, box.left + px, box.top + py, 3.5);
       }
-      const fill = isOpen(item.style.marker) ? 'none' : item.style.hollow ? '#fff' : item.color;
+      const fill = markerFill(item.style, item.color);
       parts.push(`<path d="${pen.d}" stroke="${esc(item.color)}" stroke-width="1.25" fill="${esc(fill)}"/>`);
     }
   }
@@ -228,7 +237,7 @@ export function chartSvg(u, { title = '', caption = '', styles = null, floor = n
     if (item.style) {
       const pen = svgPen();
       addMarker(pen, item.style.marker, x + 11, y, 4);
-      const fill = isOpen(item.style.marker) ? 'none' : item.style.hollow ? '#fff' : item.color;
+      const fill = markerFill(item.style, item.color);
       parts.push(`<path d="${pen.d}" stroke="${esc(item.color)}" stroke-width="1.25" fill="${esc(fill)}"/>`);
     }
     parts.push(`<text x="${n(x + 28)}" y="${y}" dominant-baseline="middle" fill="#0f172a">${esc(item.label)}</text>`);

@@ -9,6 +9,7 @@
 import { FLOOR } from './series.js';
 import { VERDICTS } from './verdicts.js';
 import { el } from './dom.js';
+import { superscript } from './labels.js';
 
 /** Fill colours of the verdicts and of the cells that have none. */
 export const KIND_COLORS = {
@@ -73,8 +74,7 @@ export function tickStep(n, px, minPx) {
 
 /** 10 to a power, with the exponent in superscript: 10⁻¹². */
 export function powerOfTen(k) {
-  const sup = { '-': '⁻', 0: '⁰', 1: '¹', 2: '²', 3: '³', 4: '⁴', 5: '⁵', 6: '⁶', 7: '⁷', 8: '⁸', 9: '⁹' };
-  return `10${String(k).replace(/./g, (c) => sup[c] ?? c)}`;
+  return `10${superscript(k) ?? `^${k}`}`;
 }
 
 function rgb(hex) {
@@ -153,6 +153,19 @@ export class Heatmap {
     const ctx = this.canvas.getContext('2d');
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.clearRect(0, 0, L.width, L.height);
+    this.paint(ctx, L);
+    if (this.hover !== null && this.hover < m.cells) {
+      const r = this.rectOf(this.hover);
+      ctx.strokeStyle = '#0f172a';
+      ctx.lineWidth = 2;
+      ctx.strokeRect(r.x + 1, r.y + 1, Math.max(1, r.w - 3), Math.max(1, r.h - 3));
+    }
+  }
+
+  /** Draws the cells, axes and colour bar with layout `L` on `ctx` (a canvas context, or an
+   *  SvgContext for a vector file). */
+  paint(ctx, L) {
+    const m = this.model;
     const states = Array.from({ length: m.cells }, (_, c) => m.stateOf(c));
     const range = decadeRange(states.map((s) => s.max));
     this.range = range;
@@ -176,12 +189,6 @@ export class Heatmap {
     });
     this.#axes(ctx, L);
     if (m.mode === 'log') this.#colorBar(ctx, L, range);
-    if (this.hover !== null && this.hover < m.cells) {
-      const r = this.rectOf(this.hover);
-      ctx.strokeStyle = '#0f172a';
-      ctx.lineWidth = 2;
-      ctx.strokeRect(r.x + 1, r.y + 1, Math.max(1, r.w - 3), Math.max(1, r.h - 3));
-    }
   }
 
   #axes(ctx, L) {

@@ -1,38 +1,28 @@
 // Words the page shows for things the API names by id: a method's label with its TeX-like
 // exponent (`X^{0,1}`, `X^0.5`) written with superscripts, a request field's path
 // (`levels`, `params.epsilon`, `methods[1].alpha`) as the label the user sees beside that
-// field, and a scene as a file name. Pure functions, so node tests cover them.
-
-import { isCustom, systemName } from './custom.js';
+// field. Pure functions, so node tests cover them.
 
 const SUPER = {
   0: '⁰', 1: '¹', 2: '²', 3: '³', 4: '⁴', 5: '⁵', 6: '⁶', 7: '⁷', 8: '⁸', 9: '⁹',
   '-': '⁻', '+': '⁺', '=': '⁼', '(': '⁽', ')': '⁾', '.': '·', ',': '˒', 'α': 'ᵅ', 'β': 'ᵝ', n: 'ⁿ', i: 'ⁱ',
 };
 
+/** `text` in superscript characters (`-12` → `⁻¹²`); null when one has none. */
+export function superscript(text) {
+  const chars = [...String(text)];
+  return chars.every((c) => SUPER[c]) ? chars.map((c) => SUPER[c]).join('') : null;
+}
+
 /** A method label for people: `A^{0,1}` → `A⁰˒¹`, `A^0.4` → `A⁰·⁴`; an exponent
  *  with a character that has no superscript keeps a plain `^(…)`. */
 export function humanLabel(label) {
   return String(label ?? '').replace(/\^(?:\{([^}]*)\}|([0-9.,+\-=()αβni]+))/g, (whole, braced, bare) => {
     const text = braced ?? bare;
-    const chars = [...text];
-    if (chars.length && chars.every((c) => SUPER[c])) return chars.map((c) => SUPER[c]).join('');
+    const sup = text ? superscript(text) : null;
+    if (sup !== null) return sup;
     return braced === undefined ? whole : `^(${text})`;
   });
-}
-
-/** An integral's name for people. */
-export const INTEGRAL_LABEL = {
-  energy: 'energy H',
-  passenger_energy: 'passenger energy E',
-  driver_energy: 'driver energy h',
-  latitude: 'latitude ℓ',
-  constraint: 'constraint residual',
-};
-
-/** An integral id's label (the id itself when unknown). */
-export function integralLabel(id) {
-  return INTEGRAL_LABEL[id] ?? String(id);
 }
 
 /** The labels of the Explore form's fields and the Work–precision settings, by API path. */
@@ -84,11 +74,4 @@ export function fieldLabel(path) {
   if (index) return `${base}, entry ${Number(index[1]) + 1}`;
   if (head === 'system' && rest) return `${base} (${rest.replace(/^\./, '')})`;
   return rest ? `${base} ${rest}` : base;
-}
-
-/** A scene as a file-name stem: `nhlab-<system>-<preset>` (a custom system by its name). */
-export function sceneStem(scene, catalog) {
-  const slug = (s) => String(s).toLowerCase().replace(/[^a-z0-9_]+/g, '-').replace(/^-|-$/g, '');
-  const system = isCustom(scene?.system) ? slug(systemName(scene.system, catalog)) || 'custom' : slug(scene?.system ?? 'scene');
-  return ['nhlab', system, scene?.preset ? slug(scene.preset) : ''].filter(Boolean).join('-');
 }

@@ -18,10 +18,10 @@ import { Plots } from './plots.js';
 import { Result } from './result.js';
 import { renderRuns } from './runs.js';
 import { defaultWindow, paperExperiments } from './catalog.js';
-import { CUSTOM, customFrom, customIntegrals, isCustom, sceneCaption, systemName } from './custom.js';
+import { CUSTOM, customFrom, customIntegrals, isCustom, sceneCaption, sceneStem, systemName } from './custom.js';
 import { decodeState, defaultCustomState, defaultState, encodeState, requestBody } from './state.js';
 import { download } from './dom.js';
-import { fieldLabel, sceneStem } from './labels.js';
+import { fieldLabel } from './labels.js';
 import { progressNote } from './timing.js';
 
 const $ = (id) => document.getElementById(id);
@@ -301,7 +301,7 @@ async function run() {
         else if (name === 'shutdown') shutdown = data;
         schedule();
       },
-    }), (wait) => status('running', `Server busy, retrying in ${wait} s…`));
+    }), (wait) => status('running', `Server busy, retrying in ${wait} s…`), mine.signal);
     if (controller !== mine) return;
     if (finished) {
       const failed = result ? result.runs.filter((r) => r.status === 'failed').length : 0;
@@ -336,6 +336,8 @@ async function run() {
       controller = null;
       setBusy(false);
       draw();
+      // The height held for scrolling is let go once the results have arrived.
+      $('status').closest('.results').style.minHeight = '';
     }
   }
 }

@@ -17,6 +17,9 @@ import { axisPaths, cellAtXY, cellXY, decodeSettings, mapPresets, mapQuery, pres
 import { SweepResult, cellLines, cellState, fmt } from './sweepresult.js';
 import { VERDICTS } from './verdicts.js';
 import { download, el } from './dom.js';
+import { fileButtons } from './export.js';
+import { humanLabel } from './labels.js';
+import { heatmapCanvas, heatmapSvg } from './heatexport.js';
 
 export class MapView {
   /**
@@ -40,7 +43,10 @@ export class MapView {
     this.card = root.querySelector('.map-card');
     this.controls = new MapControls(root.querySelector('.map-controls'), { onChange: () => this.#changed() });
     this.heatmap = new Heatmap(root.querySelector('.map-plot'), { onOpen: (cell) => this.#open(cell), format: fmt });
-    this.line = new MapLine(root.querySelector('.map-line'), catalog);
+    this.line = new MapLine(root.querySelector('.map-line'), catalog, () => this.#picture('line'));
+    root.querySelector('.map-card .plot-head').append(
+      fileButtons(() => this.#picture('map'), { png: (d) => heatmapCanvas(this.heatmap, d), svg: (d) => heatmapSvg(this.heatmap, d) }),
+    );
     const { settings, warnings } = decodeSettings(location.search);
     this.controls.fill(settings);
     // `run=1` of an Explore link is Explore's: only a map link computes the map on load.
@@ -53,10 +59,10 @@ export class MapView {
     root.querySelector('.map-cancel').addEventListener('click', () => this.controller?.abort());
     root.querySelector('.map-edit').addEventListener('click', () => onEdit());
     root.querySelector('.map-json').addEventListener('click', () => {
-      if (this.result) download(`${this.#stem()}.json`, 'application/json', JSON.stringify(this.result.toJSON(), null, 1));
+      if (this.result) download(`${this.computed.stem}.json`, 'application/json', JSON.stringify(this.result.toJSON(), null, 1));
     });
     root.querySelector('.map-csv').addEventListener('click', () => {
-      if (this.result) download(`${this.#stem()}.csv`, 'text/csv', this.result.toCSV());
+      if (this.result) download(`${this.computed.stem}.csv`, 'text/csv', this.result.toCSV());
     });
     this.#presetButtons();
   }
@@ -110,6 +116,8 @@ export class MapView {
               if (this.controller !== mine) return;
               if (name === 'start') {
                 this.result = new SweepResult(data);
+                // The scene as computed, for the files: the form may change afterwards.
+                this.computed = { caption: this.scene.textContent, stem: this.#stem() };
                 this.computedFor = this.pending;
                 this.#offer();
               } else if (name === 'cell') this.result?.addCell(data);
@@ -123,6 +131,7 @@ export class MapView {
             },
           }),
         (wait) => this.#status('running', `The server is busy (every simulation slot is taken); retrying in ${wait} s…`),
+        mine.signal,
       );
       if (this.controller !== mine) return;
       if (done) {
@@ -206,7 +215,7 @@ export class MapView {
     const { method, integral, color } = this.controls.read();
     const axes = r.axes;
     const last = axes[axes.length - 1];
-    const label = r.methods[method]?.label ?? `method ${method}`;
+    const label = humanLabel(r.methods[method]?.label ?? `method ${method}`);
     this.heatmap.set({
       xs: last.values,
       ys: axes.length > 1 ? axes[0].values : null,
@@ -267,6 +276,18 @@ export class MapView {
       return b;
     });
     this.root.querySelector('.map-presets').replaceChildren(...buttons);
+  }
+
+  // What an exported picture says of itself: its title, the scene, how to read it, its file.
+  #picture(kind) {
+    const { integral, color } = this.controls.read();
+    const line = kind === 'line';
+    const title = line ? `Largest ${integral} error against ${this.result?.axes[0]?.path}` : this.root.querySelector('.map-title').textContent;
+    const key = color === 'log' && !line
+      ? 'Colour: log₁₀ of the largest error over the run (the bar at the right); – no value, ✕ failed, ⊘ invalid'
+      : `${VERDICTS.map((v) => `${v.letter} ${v.label}`).join(' · ')} · – no value · ✕ failed · ⊘ invalid`;
+    const pending = this.result.received < this.result.cells ? ` · pale: not computed (${this.result.received} of ${this.result.cells} cells)` : '';
+    return { title, caption: this.computed.caption, key: `${key}${pending}`, stem: `${this.computed.stem}${line ? '-line' : ''}` };
   }
 
   #stem() {

@@ -10,14 +10,17 @@ import { methodStyle } from './palette.js';
 import { legendSwatches, seriesStyle } from './markers.js';
 import { fmt } from './sweepresult.js';
 import { humanLabel } from './labels.js';
+import { exportButtons } from './export.js';
 
 const HEIGHT = 300;
 
 export class MapLine {
-  /** `catalog`: GET /systems, for each method's colour and marker (palette.js). */
-  constructor(container, catalog = null) {
+  /** `catalog`: GET /systems, for each method's colour and marker (palette.js);
+   *  `describe()`: the exported files' `{title, caption, stem}` (no PNG/SVG buttons without). */
+  constructor(container, catalog = null, describe = null) {
     this.container = container;
     this.catalog = catalog;
+    this.describe = describe;
     this.u = null;
     this.key = '';
     new ResizeObserver(() => this.u?.setSize({ width: this.#width(), height: HEIGHT })).observe(container);
@@ -74,8 +77,10 @@ export class MapLine {
     card.className = 'map-line-plot';
     this.container.replaceChildren(card);
     this.u = new uPlot(opts, [[], ...result.methods.map(() => [])], card);
-    legendSwatches(this.u, result.methods.map((m) => methodStyle(this.catalog, m)));
+    const styles = result.methods.map((m) => methodStyle(this.catalog, m));
+    legendSwatches(this.u, styles);
     card.uplot = this.u; // for the browser test: the drawn series
+    if (this.describe) card.append(exportButtons(() => this.u, () => ({ ...this.describe(), styles })));
   }
 
   #width() {

@@ -3,7 +3,7 @@
 // for tables and the form. On a curve of many points the markers are sparse, a dozen or so,
 // staggered from series to series so that coinciding curves still show every marker.
 
-import { addMarker, isOpen, svgPen } from './palette.js';
+import { addMarker, isOpen, markerFill, svgPen } from './palette.js';
 
 const SVG = 'http://www.w3.org/2000/svg';
 
@@ -106,7 +106,7 @@ export function swatch(style, { width = 28, height = 12 } = {}) {
   mark.setAttribute('d', pen.d);
   mark.setAttribute('stroke', style.colour);
   mark.setAttribute('stroke-width', 1.25);
-  mark.setAttribute('fill', isOpen(style.marker) ? 'none' : style.hollow ? '#fff' : style.colour);
+  mark.setAttribute('fill', markerFill(style));
   svg.append(line, mark);
   svg.dataset.colour = style.colour;
   svg.dataset.marker = style.marker;

@@ -55,7 +55,9 @@ export function methodStyle(catalog, method) {
   const index = methods.findIndex((x) => x.id === m.id);
   const slot = index >= 0 ? index : methods.length + (hash(m.id ?? '') % COLOURS.length);
   let colour = COLOURS[slot % COLOURS.length];
-  const marker = MARKERS[slot % MARKERS.length];
+  // Past the tenth method the colours come round again, each with the next marker, so no
+  // two of the first hundred share both.
+  const marker = MARKERS[(slot + Math.floor(slot / COLOURS.length)) % MARKERS.length];
   const t = offset(methods[index], paramsOf(m));
   // At least a third of the way to black or white, so a nearby parameter still reads apart.
   if (t !== 0) colour = shade(colour, Math.sign(t) * Math.min(0.65, 0.32 + 0.6 * Math.abs(t)));
@@ -89,6 +91,13 @@ const OPEN = {
 
 /** Whether a marker shape is drawn as strokes only (it has no inside to fill). */
 export const isOpen = (marker) => marker in OPEN;
+
+/** The fill of a method's marker drawn in `colour`: none for an open shape, white for a
+ *  hollow one (parameters off their defaults), else the colour. */
+export function markerFill(style, colour = style.colour) {
+  if (isOpen(style.marker)) return 'none';
+  return style.hollow ? '#fff' : colour;
+}
 
 /** Adds a marker at (x, y) of radius r to `pen` (a Path2D or an SVG path pen). */
 export function addMarker(pen, marker, x, y, r) {

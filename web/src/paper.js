@@ -17,8 +17,8 @@ import { Result } from './result.js';
 import { requestBody } from './state.js';
 import { VERDICTS, verdictTitle } from './verdicts.js';
 import { el } from './dom.js';
-import { sceneCaption } from './custom.js';
-import { humanLabel, sceneStem } from './labels.js';
+import { sceneCaption, sceneStem } from './custom.js';
+import { humanLabel } from './labels.js';
 import { unionExtent } from './axes.js';
 
 /** What the paper finds about each integral's error, in terms of the methods' properties. */
@@ -168,6 +168,7 @@ export class PaperView {
           },
         }),
       (wait) => this.#status('running', `The server is busy; retrying ${sceneCaption(scene, this.catalog)} in ${wait} s…`),
+      mine.signal,
     );
     cancelAnimationFrame(frame);
     draw();

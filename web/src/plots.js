@@ -40,7 +40,7 @@ export class Plots {
   /** `caption(scene)`: a line under each chart's title naming the scene (none without it);
    *  `label(run)`: a curve's label (the run's, for people, by default); `stem(scene)`: the
    *  exported file name's start; `group`: a `{extents: Map}` shared by plots drawn on one
-   *  y-range; `catalog`: GET /systems, for each method's colour and marker (palette.js). */
+   *  y-range (its members, a Set of these plots, are redrawn when one changes its range); `catalog`: GET /systems, for each method's colour and marker (palette.js). */
   constructor(container, { caption, label, stem, group, catalog } = {}) {
     this.container = container;
     this.caption = caption;
@@ -48,6 +48,7 @@ export class Plots {
     this.label = label ?? ((run) => humanLabel(run.label));
     this.stem = stem ?? (() => 'nhlab');
     this.group = group ?? null;
+    if (this.group) (this.group.members ??= new Set()).add(this);
     this.charts = [];
     new ResizeObserver(() => this.#resize()).observe(container);
   }
@@ -118,28 +119,41 @@ export class Plots {
   }
 
   // The y extent without the runs that diverged, shared with the group; a note names them.
+  // "Show the full range" holds for the whole group (panels compared side by side).
   #range(chart, ys) {
     chart.ys = ys;
+    const showFull = this.group ? Boolean(this.group.full) : Boolean(chart.full);
     const { range, full, clipped } = clipRange(ys);
-    chart.extent = chart.full ? full : range;
+    chart.extent = showFull ? full : range;
     if (this.group) this.group.extents.set(chart, chart.extent);
     chart.clip.hidden = clipped.length === 0;
     if (!clipped.length) return;
-    const key = `${chart.full}|${clipped.map((c) => `${c.index}:${c.max.toExponential(1)}`).join(',')}`;
+    const key = `${showFull}|${clipped.map((c) => `${c.index}:${c.max.toExponential(1)}`).join(',')}`;
     if (chart.clip.dataset.key === key) return;
     chart.clip.dataset.key = key;
     const names = clipped.map((c) => `${this.label(this.result.runs[c.index])} (up to ${c.max.toExponential(1)})`).join(', ');
-    const toggle = el('button', 'link-button', chart.full ? 'Clip to the other runs' : 'Show the full range');
+    const toggle = el('button', 'link-button', showFull ? 'Clip to the other runs' : 'Show the full range');
     toggle.type = 'button';
     toggle.addEventListener('click', () => {
-      chart.full = !chart.full;
-      chart.clip.dataset.key = '';
-      this.#range(chart, chart.ys);
-      chart.u.setData(chart.u.data);
+      if (this.group) this.group.full = !showFull;
+      else chart.full = !showFull;
+      const members = [...(this.group?.members ?? [this])];
+      // Every range first, then every redraw: a group's charts share the union of them.
+      for (const plots of members) plots.#rerange();
+      for (const plots of members) plots.refresh();
     });
     const one = clipped.length === 1;
-    const what = chart.full ? `Full range shown, including ${names}.` : `The y-axis is clipped: ${names} ${one ? 'diverges, and its curve leaves' : 'diverge, and their curves leave'} the plot.`;
+    const what = showFull ? `Full range shown, including ${names}.` : `The y-axis is clipped: ${names} ${one ? 'diverges, and its curve leaves' : 'diverge, and their curves leave'} the plot.`;
     chart.clip.replaceChildren(what, ' ', toggle);
+  }
+
+  // Recomputes every chart's range and note (`refresh` redraws them).
+  #rerange() {
+    for (const chart of this.charts) {
+      if (!chart.ys) continue;
+      chart.clip.dataset.key = '';
+      this.#range(chart, chart.ys);
+    }
   }
 
   /** The y-range of a chart: its own extent, or its group's. */

@@ -5,7 +5,7 @@
 // against log h). Only rows that ran and have a positive, finite error become points: log
 // axes cannot show 0, and a failed run is reported as failed, never drawn as a point.
 
-import { encodeState, parseList, requestBody } from './state.js';
+import { encodeState, esc, parseList, requestBody } from './state.js';
 
 /** Default halvings and repetitions (the server's defaults too). */
 export const DEFAULT_LEVELS = 4;
@@ -62,11 +62,12 @@ export function workPrecisionBody(state, { levels = DEFAULT_LEVELS, repeats = DE
 /** The view's query string (without `?`): the form's state, then the settings that are not
  *  the defaults. */
 export function workPrecisionQuery(state, catalog, { levels = DEFAULT_LEVELS, repeats = DEFAULT_REPEATS, steps = null, orient = ORIENTS[0] } = {}) {
+  // A setting may be shown as typed (a value that did not pass), so each is encoded.
   const parts = ['view=work-precision', encodeState({ ...state, run: false }, catalog)];
-  if (steps?.length) parts.push(`steps=${steps.join(',')}`);
-  else if (levels !== DEFAULT_LEVELS) parts.push(`levels=${levels}`);
-  if (repeats !== DEFAULT_REPEATS) parts.push(`repeats=${repeats}`);
-  if (orient !== ORIENTS[0]) parts.push(`orient=${orient}`);
+  if (steps?.length) parts.push(`steps=${esc(steps.join(','))}`);
+  else if (String(levels) !== String(DEFAULT_LEVELS)) parts.push(`levels=${esc(levels)}`);
+  if (String(repeats) !== String(DEFAULT_REPEATS)) parts.push(`repeats=${esc(repeats)}`);
+  if (orient !== ORIENTS[0]) parts.push(`orient=${esc(orient)}`);
   return parts.join('&');
 }
 
@@ -131,6 +132,18 @@ export function curves(response) {
       failed: c.rows.filter((r) => r.status !== 'ok'),
     };
   });
+}
+
+/** Points sorted by x with equal x values moved apart by a few parts in 10¹², invisible on a
+ *  log axis: uPlot.join keeps one point per x of a series, and two step sizes can end at
+ *  the same error (or take the same time). */
+export function distinctX(points) {
+  const out = [];
+  for (const [x, y] of points) {
+    const prev = out.length ? out[out.length - 1][0] : null;
+    out.push([prev !== null && x <= prev ? prev * (1 + 4e-12) : x, y]);
+  }
+  return out;
 }
 
 /** A fitted order for a table or legend: two decimals, or "–" when there is none. */

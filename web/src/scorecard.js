@@ -38,6 +38,7 @@ export class ScorecardView {
       this.card = await retrying(
         () => fetchScorecard({}, { signal: mine.signal }),
         (wait) => this.#status('running', `The server is busy; retrying in ${wait} s…`),
+        mine.signal,
       );
       if (this.controller !== mine) return;
       this.render();

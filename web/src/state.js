@@ -203,7 +203,8 @@ function sameNumber(a, b) {
   return num(a) === num(b);
 }
 
-// Slashes and spaces (as +) are written plainly too, for readable formulas; `@` for compositions.
-function esc(s) {
+/** A value for the URL's query, encoded but for what keeps it readable: commas, colons,
+ *  slashes and spaces (as +) for formulas and lists, `@` for compositions. */
+export function esc(s) {
   return encodeURIComponent(s).replace(/%2C/g, ',').replace(/%3A/g, ':').replace(/%40/g, '@').replace(/%2F/g, '/').replace(/%20/g, '+');
 }

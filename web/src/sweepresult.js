@@ -4,6 +4,8 @@
 // downloads: JSON in the shape of `POST /sweep`'s JSON answer (the rows ordered by cell,
 // then method) and CSV with the columns of its CSV answer. Pure, so node tests cover it.
 
+import { sci } from './verdicts.js';
+
 export class SweepResult {
   constructor(start) {
     this.axes = start.axes ?? [];
@@ -60,15 +62,16 @@ export class SweepResult {
     return { axes: this.axes, methods: this.methods, integrals: this.integrals, cells: this.cells, criterion: this.criterion, rows: this.rows() };
   }
 
-  /** The CSV answer's columns: cell, one per axis, the run's, five per integral, simulate. */
+  /** The CSV answer's columns: cell, one per axis, the run's, six per integral (the verdict's
+   *  five and the gap's start), simulate. */
   toCSV() {
     const head = ['cell', ...this.axes.map((a) => a.path), 'method_index', 'method', 'status', 'error', 'steps', 'cpu_ms', 'newton_iterations'];
-    for (const i of this.integrals) head.push(...VERDICT_FIELDS.map((f) => `${i}.${f}`));
+    for (const i of this.integrals) head.push(...VERDICT_FIELDS.map((f) => `${i}.${f}`), `${i}.gap_since`);
     head.push('simulate');
     const lines = [head.map(csvField).join(',')];
     for (const r of this.rows()) {
       const fields = [r.cell, ...this.axes.map((_, k) => r.values?.[k]), r.method_index, r.method?.label ?? r.method?.id, r.status, r.error, r.steps, r.cpu_ms, r.newton_iterations];
-      for (const i of this.integrals) fields.push(...VERDICT_FIELDS.map((f) => r.verdicts?.[i]?.[f]));
+      for (const i of this.integrals) fields.push(...VERDICT_FIELDS.map((f) => r.verdicts?.[i]?.[f]), r.gaps?.[i]?.since);
       fields.push(r.simulate ? JSON.stringify(r.simulate) : null);
       lines.push(fields.map((v) => csvField(v === null || v === undefined ? '' : String(v))).join(','));
     }
@@ -119,10 +122,6 @@ export function fmt(v) {
   if (v === null || v === undefined || !Number.isFinite(v)) return String(v ?? '–');
   const a = Math.abs(v);
   return a !== 0 && (a < 1e-3 || a >= 1e5) ? v.toExponential(2) : String(Number(v.toPrecision(3)));
-}
-
-function sci(x) {
-  return x === null || x === undefined ? '–' : Number(x).toExponential(2);
 }
 
 function csvField(s) {

@@ -30,7 +30,8 @@ export const INTEGRAL_NAME = {
   constraint: 'constraint residual',
 };
 
-const sci = (x) => (x === null || x === undefined ? '–' : Number(x).toExponential(2));
+/** A verdict's number: `1.23e-4`, or `–` for none. */
+export const sci = (x) => (x === null || x === undefined ? '–' : Number(x).toExponential(2));
 
 /** The hover text of a verdict: the numbers behind it. */
 export function verdictTitle(verdict, context = '') {

@@ -7,12 +7,13 @@
 // the form's plus the settings, in the URL as `?view=work-precision&…`.
 
 import { ApiError, fetchWorkPrecision, retrying } from './api.js';
-import { sceneCaption } from './custom.js';
+import { sceneCaption, sceneStem } from './custom.js';
 import { ORIENTS, decodeSettings, readSettings, workPrecisionBody, workPrecisionQuery } from './precision.js';
 import { HEIGHT, renderAnswer } from './wpplots.js';
-import { fieldLabel, sceneStem } from './labels.js';
+import { fieldLabel } from './labels.js';
 import { clock } from './timing.js';
 import { el } from './dom.js';
+import { encodeState } from './state.js';
 
 const FIELDS = ['levels', 'steps', 'repeats'];
 
@@ -27,7 +28,10 @@ export class WorkPrecisionView {
     this.controller = null;
     this.charts = [];
     this.answer = null;
-    this.computedFor = null;
+    // The scene and settings last sent (the orientation aside: it only redraws), so that
+    // coming back to the tab recomputes only for a changed request, and a request that was
+    // cancelled or failed is not sent again until Run is pressed.
+    this.sentFor = null;
     const q = (c) => root.querySelector(c);
     this.status = q('.view-status');
     this.plots = q('.wp-plots');
@@ -50,10 +54,16 @@ export class WorkPrecisionView {
     new ResizeObserver(() => this.#resize()).observe(this.plots);
   }
 
-  /** Computes for the form's current scene, unless it is the one shown already. */
+  /** Computes for the form's current scene, unless it is the one last sent. */
   show() {
-    const query = this.#url();
-    if (query !== this.computedFor && !this.controller) this.load();
+    this.#url();
+    if (this.#request() !== this.sentFor && !this.controller) this.load();
+  }
+
+  // The request the view would send now, as a string: the scene and the settings as typed.
+  #request() {
+    const { state } = this.read();
+    return JSON.stringify([encodeState({ ...state, run: false }, this.catalog), FIELDS.map((f) => this.inputs[f].value)]);
   }
 
   // The settings as typed, checked against the final time (the form's, else the preset's).
@@ -77,6 +87,9 @@ export class WorkPrecisionView {
 
   async load() {
     this.#clearErrors();
+    this.sentFor = this.#request();
+    // A new Run replaces the request in flight, whether or not the new one can be sent.
+    this.#stop();
     const { state, invalid } = this.read();
     if (invalid.length) {
       const names = invalid.map((e) => `${fieldLabel(e.path) ?? e.path}: ${e.message}`).join('; ');
@@ -91,8 +104,7 @@ export class WorkPrecisionView {
       this.#markStale('Stale: from the previous request (the new one has errors).');
       return;
     }
-    const query = this.#url();
-    this.controller?.abort();
+    this.#url();
     const mine = new AbortController();
     this.controller = mine;
     this.#busy(true);
@@ -100,7 +112,9 @@ export class WorkPrecisionView {
     const started = performance.now();
     const what = settings.steps ? `${settings.steps.length} step sizes` : `${settings.levels} step sizes${state.step ? ` from h = ${state.step}` : ''}`;
     let note = `Measuring ${state.methods.length} methods at ${what}, ${settings.repeats} repeats each`;
-    const tick = () => this.#status('running', `${note}… ${clock(performance.now() - started)} elapsed.`);
+    const tick = () => {
+      if (this.controller === mine) this.#status('running', `${note}… ${clock(performance.now() - started)} elapsed.`);
+    };
     tick();
     const timer = setInterval(tick, 500);
     try {
@@ -110,9 +124,9 @@ export class WorkPrecisionView {
           note = `The server is busy; retrying in ${wait} s`;
           tick();
         },
+        mine.signal,
       );
       if (this.controller !== mine) return;
-      this.computedFor = query;
       this.#render(answer);
       this.#markStale('');
       const failed = answer.rows.filter((r) => r.status !== 'ok').length;
@@ -193,6 +207,14 @@ export class WorkPrecisionView {
     this.stale.textContent = stale ? text : '';
     this.plots.classList.toggle('stale', stale);
     this.table.classList.toggle('stale', stale);
+  }
+
+  // Abandons the request in flight (the server stops when the client leaves).
+  #stop() {
+    const running = this.controller;
+    this.controller = null;
+    running?.abort();
+    this.#busy(false);
   }
 
   #busy(busy) {

@@ -7,11 +7,12 @@ import uPlot from 'uplot';
 import { runWidth } from './plots.js';
 import { methodStyle } from './palette.js';
 import { legendSwatches, seriesStyle, swatch } from './markers.js';
-import { curves, formatOrder } from './precision.js';
+import { curves, distinctX, formatOrder } from './precision.js';
 import { humanLabel } from './labels.js';
 import { plotSummary, sci } from './alttext.js';
 import { exportButtons } from './export.js';
 import { el } from './dom.js';
+import { compactTick } from './axes.js';
 
 export const HEIGHT = 320;
 
@@ -48,7 +49,7 @@ export function renderAnswer(answer, { plots, table, orient, scene, stem, width,
     const foot = el('div', 'plot-foot');
     const alt = el('p', 'sr-only plot-alt');
     card.append(head, caption, target, foot, alt);
-    const pairs = (c) => (p.swap ? c.time.map(([t, e]) => [e, t]).sort((a, b) => a[0] - b[0]) : c[p.key]);
+    const pairs = (c) => distinctX(p.swap ? c.time.map(([t, e]) => [e, t]).sort((a, b) => a[0] - b[0]) : c[p.key]);
     const data = uPlot.join(cs.map((c) => [pairs(c).map(([x]) => x), pairs(c).map(([, y]) => y)]));
     const u = new uPlot(options(cs, p, width, styles), cs.length ? data : [[]], target);
     legendSwatches(u, styles);
@@ -75,7 +76,7 @@ function curveText(c, key) {
 }
 
 function options(cs, plot, width, styles) {
-  const axis = (label) => ({ label, stroke: '#475569', grid: { stroke: '#e2e8f0' }, ticks: { stroke: '#cbd5e1' }, values: (u, splits) => splits.map(short) });
+  const axis = (label) => ({ label, stroke: '#475569', grid: { stroke: '#e2e8f0' }, ticks: { stroke: '#cbd5e1' }, values: (u, splits) => splits.map(compactTick) });
   return {
     width,
     height: HEIGHT,
@@ -101,7 +102,7 @@ function orderTable(cs, answer, styles) {
   const table = el('table', 'runs wp-orders');
   const head = el('tr');
   head.append(el('th', '', 'Method'), el('th', 'num', 'Order (slope vs h)'));
-  for (const h of steps) head.append(el('th', 'num', `h = ${short(h)}`));
+  for (const h of steps) head.append(el('th', 'num', `h = ${compactTick(h)}`));
   const thead = el('thead');
   thead.append(head);
   const tbody = el('tbody');
@@ -135,7 +136,7 @@ function orderTable(cs, answer, styles) {
   // Every failure with the server's message, so none is silent.
   const failures = el('ul', 'wp-failures');
   for (const c of cs) {
-    for (const r of c.failed) failures.append(el('li', '', `${humanLabel(c.label)} at h = ${short(r.step)} failed: ${r.error ?? 'no message'}`));
+    for (const r of c.failed) failures.append(el('li', '', `${humanLabel(c.label)} at h = ${compactTick(r.step)} failed: ${r.error ?? 'no message'}`));
   }
   const wrap = el('div');
   wrap.append(table);
@@ -159,11 +160,4 @@ function legendLabel(c, key) {
   if (c.failed.length) parts.push(`${c.failed.length} failed`);
   const label = humanLabel(c.label);
   return parts.length ? `${label} (${parts.join(', ')})` : label;
-}
-
-// 0.000123 → "1.2e−4"; 0.5 → "0.5": axis ticks and table heads stay short.
-function short(v) {
-  if (v === null || v === undefined) return '';
-  const a = Math.abs(v);
-  return a !== 0 && (a < 1e-3 || a >= 1e4) ? v.toExponential(1).replace('e-', 'e−') : String(Number(v.toPrecision(3)));
 }

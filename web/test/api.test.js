@@ -33,3 +33,20 @@ test('retrying throws any other failure at once', async () => {
   );
   assert.equal(calls, 1);
 });
+
+test('an abort during the wait for a retry ends it at once', async () => {
+  const controller = new AbortController();
+  let calls = 0;
+  const started = Date.now();
+  const pending = retrying(
+    async () => {
+      calls += 1;
+      throw new ApiError(503, 'busy', null, 60);
+    },
+    () => setTimeout(() => controller.abort(), 10),
+    controller.signal,
+  );
+  await assert.rejects(pending, { name: 'AbortError' });
+  assert.equal(calls, 1, 'no second attempt after the abort');
+  assert.ok(Date.now() - started < 30_000, 'the 60 s wait was not sat out');
+});

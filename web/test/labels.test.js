@@ -1,8 +1,8 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
-import { fieldLabel, humanLabel, integralLabel, sceneStem } from '../src/labels.js';
-import { sceneCaption } from '../src/custom.js';
+import { fieldLabel, humanLabel } from '../src/labels.js';
+import { sceneCaption, sceneStem } from '../src/custom.js';
 
 const catalog = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
 
@@ -15,12 +15,6 @@ test('method labels: TeX-like exponents become superscripts', () => {
   assert.equal(humanLabel(undefined), '');
   // Every default method of the catalog gets a label without braces or carets.
   for (const m of catalog.default_methods) assert.doesNotMatch(humanLabel(m.label), /[{}^]/);
-});
-
-test('integral ids read as names', () => {
-  assert.equal(integralLabel('passenger_energy'), 'passenger energy E');
-  assert.equal(integralLabel('latitude'), 'latitude ℓ');
-  assert.equal(integralLabel('mystery'), 'mystery');
 });
 
 test('API field paths read as the labels the page shows', () => {

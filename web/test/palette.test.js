@@ -25,6 +25,14 @@ test('a method keeps its colour and marker whatever the run list', () => {
   assert.deepEqual(methodStyle(catalog, { id: first.id }), { colour: methodStyle(catalog, { id: first.id }).colour, dash: null, marker: MARKERS[0], hollow: false });
 });
 
+test('past ten methods, colours come round with another marker: no two share both', () => {
+  const many = { methods: Array.from({ length: 25 }, (_, i) => ({ id: `m${i}`, params: [] })) };
+  const looks = many.methods.map((m) => methodStyle(many, { id: m.id }));
+  assert.equal(new Set(looks.map((s) => `${s.colour} ${s.marker}`)).size, looks.length);
+  assert.equal(looks[10].colour, looks[0].colour);
+  assert.notEqual(looks[10].marker, looks[0].marker);
+});
+
 test('a run, a run method and a form method of the same method look the same', () => {
   const inline = { id: withParam.id, [param.name]: param.default, label: 'x' };
   const form = { id: withParam.id, params: { [param.name]: param.default } };

@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { ORIENTS, curves, decodeSettings, fitSlope, formatOrder, plottable, readSettings, workPrecisionBody, workPrecisionQuery } from '../src/precision.js';
+import { ORIENTS, curves, decodeSettings, distinctX, fitSlope, formatOrder, plottable, readSettings, workPrecisionBody, workPrecisionQuery } from '../src/precision.js';
 import { defaultState } from '../src/state.js';
 
 const catalog = {
@@ -94,6 +94,10 @@ test('the view and its settings round-trip through the URL', () => {
   assert.equal(q2, 'view=work-precision&system=knife_edge&preset=paper&t_end=10&steps=0.1,0.05&repeats=2&orient=error-x');
   assert.deepEqual(decodeSettings(q2), { levels: '4', repeats: '2', steps: '0.1,0.05', orient: 'error-x' });
   assert.equal(decodeSettings('orient=sideways').orient, 'time-x');
+  // A value shown as typed is encoded: it cannot add or break parameters of the URL.
+  const q3 = workPrecisionQuery(state, catalog, { levels: '3&view=map', repeats: '2 #x' });
+  assert.equal(new URLSearchParams(q3).get('view'), 'work-precision');
+  assert.deepEqual(decodeSettings(q3), { levels: '3&view=map', repeats: '2 #x', steps: '', orient: 'time-x' });
 });
 
 test('step sizes: 0, negative, empty or too many are errors at their field, never a silent 1', () => {
@@ -126,4 +130,11 @@ test('a list of steps replaces levels; each must lie in (0, t_end]', () => {
 
 test('the time plot can be drawn with error on x and time on y', () => {
   assert.deepEqual(ORIENTS, ['time-x', 'error-x']);
+});
+
+test('points of one curve at the same x stay two points', () => {
+  const out = distinctX([[1e-3, 1], [1e-3, 2], [1e-3, 3], [2e-3, 4]]);
+  assert.equal(new Set(out.map(([x]) => x)).size, 4);
+  assert.deepEqual(out.map(([, y]) => y), [1, 2, 3, 4]);
+  for (const [x] of out) assert.ok(Math.abs(x / 1e-3 - 1) < 1e-10 || x === 2e-3);
 });

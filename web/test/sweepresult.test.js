@@ -29,6 +29,7 @@ function row(cell, method_index, status = 'ok') {
     cpu_ms: status === 'invalid' ? null : 1.5,
     newton_iterations: method_index === 0 && status !== 'invalid' ? 6012 : null,
     verdicts: status === 'ok' ? { energy: verdict(cell % 2 ? 'drift' : 'bounded', 1e-3 * (cell + 1)), constraint: verdict('exact', 0) } : {},
+    gaps: cell === 0 && method_index === 0 ? { energy: { since: 72016.9, reason: 'passenger_at_rest', message: '…' } } : {},
     simulate: { system: 's', preset: 'p', params: { epsilon: values[1] }, methods: [{ id: 'm', alpha: values[0] }], points: 1000 },
   };
 }
@@ -79,17 +80,18 @@ test('the CSV download has the CSV answer columns, a row per run', () => {
   assert.equal(
     lines[0],
     'cell,methods.alpha,params.epsilon,method_index,method,status,error,steps,cpu_ms,newton_iterations,' +
-      'energy.kind,energy.max,energy.early,energy.late,energy.ratio,' +
-      'constraint.kind,constraint.max,constraint.early,constraint.late,constraint.ratio,simulate',
+      'energy.kind,energy.max,energy.early,energy.late,energy.ratio,energy.gap_since,' +
+      'constraint.kind,constraint.max,constraint.early,constraint.late,constraint.ratio,constraint.gap_since,simulate',
   );
   assert.equal(lines.length, 1 + 12);
   assert.ok(lines[1].startsWith('0,0.3,0,0,M^0.3,ok,,3000,1.5,6012,bounded,0.001,0.0005,'), lines[1]);
+  assert.match(lines[1], /,0\.66,72016\.9,exact,0,0,0,0\.66,,"/, 'the gap start after the energy verdict, empty for none');
   // Quotes in a message and the simulate body's JSON are quoted as CSV fields.
   const invalid = lines.find((l) => l.startsWith('5,') && l.includes('invalid'));
   assert.match(invalid, /,"v: not tangent, ""quoted""",0,,,/);
   assert.match(lines[1], /,"\{""system"":""s"",""preset"":""p"",.*\}"$/);
   const failed = lines.find((l) => l.includes('failed'));
-  assert.match(failed, /^4,0\.5,0\.25,1,N,failed,step 12 at t = 1\.2: Newton did not converge,3000,1\.5,,,,,,,,,,,,/);
+  assert.match(failed, /^4,0\.5,0\.25,1,N,failed,step 12 at t = 1\.2: Newton did not converge,3000,1\.5,,,,,,,,,,,,,,/);
 });
 
 test('a tooltip names the cell, the method as run there and the numbers', () => {

@@ -140,7 +140,9 @@ struct Trail {
 }
 
 impl Trail {
-    /// Notes a crossing's value; whether it is defined (an undefined one is left out).
+    /// Notes a crossing's value; whether it is defined. Near rest `a·u/|u|` is 0/0 or
+    /// overflows, so any value that is not finite is undefined and left out (a run that
+    /// diverges fails on its energies, checked at every step, not here).
     #[inline]
     fn defined(&mut self, t: f64, value: f64) -> bool {
         self.undefined = !value.is_finite();

@@ -6,11 +6,11 @@
 //! it is brought into view.
 use crate::driver::Driver;
 use crate::explore::console_clean;
-use crate::page::{js, wait_for_status};
+use crate::page::{js, poll, wait_for_status};
 use fantoccini::{Client, Locator};
 use serde_json::{Value, json};
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 pub(crate) async fn plot_export(
     client: &Client,
@@ -26,7 +26,7 @@ pub(crate) async fn plot_export(
     let card = r#".plot-card[data-integral="energy"]"#;
     click(client, &format!("{card} .export-png")).await?;
     click(client, &format!("{card} .export-svg")).await?;
-    let downloads = match poll(client, DOWNLOADS).await {
+    let downloads = match poll(client, DOWNLOADS, Duration::from_secs(20)).await {
         Ok(d) => d,
         Err(e) => {
             let log = driver.browser_log(client).await?;
@@ -71,7 +71,7 @@ pub(crate) async fn plot_export(
         "{base}?system=knife_edge&preset=paper&t_end=3000000&methods=leapfrog&integrals=energy&run=1"
     );
     client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
-    let live = poll(client, LIVE).await?;
+    let live = poll(client, LIVE, Duration::from_secs(20)).await?;
     let ticks: Vec<&str> =
         live["ticks"].as_array().map_or(vec![], |t| t.iter().filter_map(Value::as_str).collect());
     assert!(ticks.contains(&"1e6") && ticks.iter().all(|t| t.len() <= 6), "ticks {live}");
@@ -111,7 +111,7 @@ pub(crate) async fn plot_export(
 }
 
 /// Keeps an exported file beside the screenshots, under `<target>/screenshots/`.
-fn save(name: &str, bytes: &Value) {
+pub(crate) fn save(name: &str, bytes: &Value) {
     let bytes: Vec<u8> = bytes
         .as_array()
         .map_or(vec![], |b| b.iter().filter_map(|x| u8::try_from(x.as_u64()?).ok()).collect());
@@ -130,24 +130,9 @@ async fn click(client: &Client, css: &str) -> Result<(), String> {
         .map_err(|e| format!("cannot click {css}: {e}"))
 }
 
-/// Runs `script` every 100 ms until it returns something other than null (20 s at most).
-async fn poll(client: &Client, script: &str) -> Result<Value, String> {
-    let start = Instant::now();
-    loop {
-        let v = js(client, script).await?;
-        if !v.is_null() {
-            return Ok(v);
-        }
-        if start.elapsed() > Duration::from_secs(20) {
-            return Err(format!("nothing within 20 s from {script}"));
-        }
-        tokio::time::sleep(Duration::from_millis(100)).await;
-    }
-}
-
 /// Downloads go through a blob URL and an anchor with `download`: record the anchor's name
 /// and the blob's first bytes instead of saving it (the page's CSP forbids fetching blob URLs).
-const CATCH_DOWNLOADS: &str = r#"
+pub(crate) const CATCH_DOWNLOADS: &str = r#"
 window.__downloads = [];
 const blobs = new Map();
 const createObjectURL = URL.createObjectURL;
@@ -157,7 +142,7 @@ URL.createObjectURL = (blob) => {
   return url;
 };
 HTMLAnchorElement.prototype.click = function () {
-  const d = { name: this.download, size: null, head: null, text: null, paths: 0, bytes: null };
+  const d = { name: this.download, size: null, head: null, text: null, paths: 0, rects: 0, bytes: null };
   window.__downloads.push(d);
   blobs.get(this.href).arrayBuffer().then((b) => {
     d.head = [...new Uint8Array(b.slice(0, 4))];
@@ -166,6 +151,8 @@ HTMLAnchorElement.prototype.click = function () {
       const text = new TextDecoder().decode(b);
       d.text = text.slice(0, 200);
       d.paths = (text.match(/<path/g) ?? []).length;
+      d.rects = (text.match(/<rect/g) ?? []).length;
+      d.letters = (text.match(/>[EBD]<\/text>/g) ?? []).length;
     }
     d.size = b.byteLength;
   });
@@ -173,7 +160,7 @@ HTMLAnchorElement.prototype.click = function () {
 "#;
 
 /// Both downloads, once their bytes are read, PNG first.
-const DOWNLOADS: &str = "const d = window.__downloads; return d.length === 2 && d.every((x) => x.size !== null) ? d.map(({ bytes, ...x }) => x).sort((a, b) => a.name.localeCompare(b.name)) : null;";
+pub(crate) const DOWNLOADS: &str = "const d = window.__downloads; return d.length === 2 && d.every((x) => x.size !== null) ? d.map(({ bytes, ...x }) => x).sort((a, b) => a.name.localeCompare(b.name)) : null;";
 
 /// The energy card's scene line and its canvas's text alternative.
 const CARD: &str = r#"

@@ -4,7 +4,8 @@
 
 use crate::driver::Driver;
 use crate::explore::console_clean;
-use crate::page::{PLOT_REPORT, js, screenshot, wait_for_status, wait_for_view};
+use crate::export::{CATCH_DOWNLOADS, DOWNLOADS, save};
+use crate::page::{PLOT_REPORT, js, poll, screenshot, wait_for_status, wait_for_view};
 use fantoccini::actions::{InputSource, MOUSE_BUTTON_LEFT, MouseActions, PointerAction};
 use fantoccini::{Client, Locator};
 use serde_json::{Value, json};
@@ -62,6 +63,25 @@ pub(crate) async fn map_view(client: &Client, driver: &Driver, base: &str) -> Re
     assert!(report["legend"].as_str().unwrap_or("").contains("bounded"), "{report}");
     assert!(report["criterion"].as_str().unwrap_or("").starts_with("Criterion: "), "{report}");
     console_clean(driver, client, "map view").await?;
+
+    // The heat map as PNG and SVG: every cell in the drawing, with its verdict letter.
+    js(client, CATCH_DOWNLOADS).await?;
+    for format in ["png", "svg"] {
+        let css = format!("#view-map .map-card .plot-head .export-{format}");
+        let button = client.find(Locator::Css(&css)).await.map_err(|e| format!("no {css}: {e}"))?;
+        button.click().await.map_err(|e| format!("cannot click {css}: {e}"))?;
+    }
+    let files = poll(client, DOWNLOADS, Duration::from_secs(20)).await?;
+    let stem = "nhlab-map-cvt_pendulum-methods-alpha-x-params-epsilon";
+    assert_eq!(files[0]["name"], format!("{stem}.png"), "{files}");
+    assert_eq!(files[0]["head"], json!([137, 80, 78, 71]), "a PNG file: {files}");
+    assert_eq!(files[1]["name"], format!("{stem}.svg"), "{files}");
+    assert!(files[1]["rects"].as_u64().unwrap_or(0) >= 231, "a rectangle per cell: {files}");
+    assert!(files[1]["letters"].as_u64().unwrap_or(0) >= 200, "verdict letters: {files}");
+    let bytes = js(client, "return window.__downloads.map((d) => [d.name, d.bytes]);").await?;
+    for file in bytes.as_array().into_iter().flatten() {
+        save(file[0].as_str().unwrap_or("map-export"), &file[1]);
+    }
 
     // Hovering cell 5 (α = 0.3, the first row; ε = 0.25, the sixth column) names it.
     let (x, y) = cell_center(client, 5).await?;

@@ -64,6 +64,21 @@ pub(crate) async fn wait_for_status(client: &Client) -> Result<(String, String),
     }
 }
 
+/// Runs `script` every 25 ms until it returns something other than null (`within` at most).
+pub(crate) async fn poll(client: &Client, script: &str, within: Duration) -> Result<Value, String> {
+    let start = Instant::now();
+    loop {
+        let v = js(client, script).await?;
+        if !v.is_null() {
+            return Ok(v);
+        }
+        if start.elapsed() > within {
+            return Err(format!("nothing within {within:?} from {script}"));
+        }
+        tokio::time::sleep(Duration::from_millis(25)).await;
+    }
+}
+
 pub(crate) async fn js(client: &Client, script: &str) -> Result<Value, String> {
     client.execute(script, vec![]).await.map_err(|e| format!("script failed: {e}\n{script}"))
 }

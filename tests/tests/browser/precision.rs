@@ -5,7 +5,7 @@
 
 use crate::driver::Driver;
 use crate::explore::console_clean;
-use crate::page::{js, screenshot, wait_for_view};
+use crate::page::{js, poll, screenshot, wait_for_view};
 use fantoccini::{Client, Locator};
 use serde_json::json;
 use std::time::Duration;
@@ -78,11 +78,23 @@ pub(crate) async fn work_precision_controls(
         .for_element(Locator::Css("#view-work-precision .wp-cancel:not([disabled])"))
         .await
         .map_err(|e| format!("no enabled Cancel while the request runs: {e}"))?;
-    tokio::time::sleep(Duration::from_millis(1200)).await;
     let running = js(client, REPORT).await?;
     assert_eq!(running["state"], "running", "{running}");
-    assert!(running["status"].as_str().unwrap_or("").contains("elapsed"), "progress: {running}");
     assert_eq!(running["progress"], json!(true), "a progress bar while it runs: {running}");
+    // The elapsed time counts up while it runs: the status changes, still running.
+    let first = running["status"].as_str().unwrap_or_default().to_owned();
+    assert!(first.contains("elapsed"), "progress: {running}");
+    let later = poll(
+        client,
+        &format!(
+            "const s = document.querySelector('#view-work-precision .view-status'); \
+             return s.dataset.state === 'running' && s.textContent !== {first:?} ? s.textContent : null;"
+        ),
+        Duration::from_secs(5),
+    )
+    .await
+    .map_err(|e| format!("the elapsed time does not count up while it runs: {e}"))?;
+    assert!(later.as_str().unwrap_or_default().contains("elapsed"), "progress: {later}");
     click(client, ".wp-cancel").await?;
     let (state, text) = wait_for_view(client, "view-work-precision").await?;
     assert_eq!(state, "cancelled", "Cancel stops the request: {text:?}");

@@ -5,7 +5,7 @@
 
 use crate::driver::Driver;
 use crate::explore::console_clean;
-use crate::page::{js, screenshot, wait_for_status, wait_for_view};
+use crate::page::{js, poll, screenshot, wait_for_status, wait_for_view};
 use fantoccini::{Client, Locator};
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
@@ -185,8 +185,15 @@ async fn views_fit(client: &Client, widths: &[u32]) -> Result<(), String> {
             assert_eq!(state, "done", "{view}: {text}");
         }
         for &width in widths {
+            let before = js(client, "return innerWidth;").await?;
             client.set_window_size(width, 800).await.map_err(|e| e.to_string())?;
-            tokio::time::sleep(Duration::from_millis(150)).await;
+            // Once the window has its new width (unless it had it already), two frames for
+            // the layout and the plots' resize. A width the browser will not take is measured
+            // as it is: the check below still holds there.
+            let resized = format!(
+                "return innerWidth !== {before} || outerWidth === {width} ? new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(() => r(innerWidth)))) : null;"
+            );
+            let _ = poll(client, &resized, Duration::from_secs(3)).await;
             let v = js(client, OVERFLOW).await?;
             if v["scrollWidth"].as_f64() > v["innerWidth"].as_f64() {
                 let shot = screenshot(client, &format!("overflow-{view}-{width}.png")).await;
