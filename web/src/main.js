@@ -3,8 +3,9 @@
 // progress and runs table once per animation frame. Cancel aborts the fetch. Four more views,
 // Scorecard, Paper, Work–precision and Map, live in the URL as `?view=scorecard` / `?view=paper` /
 // `?view=work-precision` / `?view=map` (the last two with the form's scene); clicking a
-// scorecard or map cell opens its scene here. "Custom system" in the system select opens the formula editor, filled from the system
-// shown or from the built-in its "Start from" select picks.
+// scorecard or map cell opens its scene here. "Custom system" in the system select opens the
+// formula editor, filled from the system shown or from the built-in its "Start from" select
+// picks (the form's moves between states are in transitions.js).
 
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
@@ -17,9 +18,10 @@ import { MapView } from './map.js';
 import { Plots } from './plots.js';
 import { Result } from './result.js';
 import { renderRuns } from './runs.js';
-import { defaultWindow, paperExperiments } from './catalog.js';
-import { CUSTOM, customFrom, customIntegrals, isCustom, sceneCaption, sceneStem, systemName } from './custom.js';
-import { decodeState, defaultCustomState, defaultState, encodeState, requestBody } from './state.js';
+import { paperExperiments } from './catalog.js';
+import { CUSTOM, sceneCaption, sceneStem } from './custom.js';
+import { decodeState, encodeState, requestBody } from './state.js';
+import { customized, experiment, presetSwitched, sceneOpened, startedFrom, systemSwitched } from './transitions.js';
 import { download } from './dom.js';
 import { fieldLabel } from './labels.js';
 import { progressNote } from './timing.js';
@@ -105,25 +107,7 @@ function setView(name, push = false) {
 // A scorecard cell (its scene, with the scorecard's methods) or a map cell (its /simulate
 // body, with its one method), run here; what the scene leaves out comes from its preset.
 function openScene(scene, methods) {
-  const custom = isCustom(scene.system);
-  const state = custom ? defaultCustomState(catalog, scene.system) : defaultState(catalog, scene.system, scene.preset);
-  Object.assign(state, {
-    params: custom ? {} : { ...state.params, ...scene.params },
-    q: scene.q ? [...scene.q] : state.q,
-    v: scene.v ? [...scene.v] : state.v,
-    step: scene.step ?? state.step,
-    t_end: scene.t_end ?? state.t_end,
-    points: scene.points ?? state.points,
-    integrals: scene.integrals ? [...scene.integrals] : state.integrals,
-    window: defaultWindow(scene.t_end ?? state.t_end),
-    smooth: true,
-    methods: methods.map((m) => ({
-      id: m.id,
-      params: Object.fromEntries(Object.entries(m).filter(([k]) => !['id', 'label', 'composition'].includes(k))),
-      ...(m.composition ? { composition: m.composition } : {}),
-    })),
-  });
-  form.fill(state);
+  form.fill(sceneOpened(catalog, scene, methods));
   setView('main', true);
   run();
 }
@@ -139,10 +123,7 @@ function experimentButtons() {
     b.dataset.preset = x.preset;
     b.textContent = x.label;
     b.addEventListener('click', () => {
-      const state = defaultState(catalog, x.system, x.preset);
-      state.integrals = [...x.integrals];
-      state.smooth = true;
-      form.fill(state);
+      form.fill(experiment(catalog, x));
       run();
     });
     return b;
@@ -175,7 +156,7 @@ function wire() {
   form.el.addEventListener('change', (e) => {
     const id = e.target.id;
     if (id === 'system') switchSystem();
-    else if (id === 'preset') switchPreset();
+    else if (id === 'preset') form.fill(presetSwitched(catalog, form.read().state));
     else if (id === 'custom-start') startFrom($('custom-start').value);
     form.renumber();
     if (['stat', 'smooth', 'window'].includes(id)) {
@@ -190,66 +171,25 @@ function wire() {
   });
   $('cancel').addEventListener('click', () => controller?.abort());
   $('download-json').addEventListener('click', () => {
-    if (result) download(`${fileStem()}.json`, 'application/json', JSON.stringify(result.toJSON(), null, 1));
+    if (result) download(`${sceneStem(result.scene, catalog)}.json`, 'application/json', JSON.stringify(result.toJSON(), null, 1));
   });
   $('download-csv').addEventListener('click', () => {
-    if (result) download(`${fileStem()}.csv`, 'text/csv', result.toCSV());
+    if (result) download(`${sceneStem(result.scene, catalog)}.csv`, 'text/csv', result.toCSV());
   });
 }
 
-// A new system: its first preset, defaults for integrals and window; the methods stay. The
-// custom system starts as the system shown, written as formulas, with its values.
+// A new system (transitions.js); "Custom system" opens the editor on the system shown.
 function switchSystem() {
   if ($('system').value === CUSTOM) {
-    if (form.shown !== CUSTOM) openEditor(form.read({ as: form.shown }).state);
+    if (form.shown !== CUSTOM) form.fill(customized(catalog, form.read({ as: form.shown }).state));
     return;
   }
-  const { state: current } = form.read();
-  const next = defaultState(catalog, $('system').value);
-  next.methods = current.methods.length ? current.methods : next.methods;
-  next.stat = current.stat;
-  next.smooth = current.smooth;
-  form.fill(next);
+  form.fill(systemSwitched(catalog, form.read().state, $('system').value));
 }
 
-// A new preset refills what presets define; methods, integrals and display stay (the window
-// follows the new final time while it is the old one's default).
-function switchPreset() {
-  const { state: current } = form.read();
-  const next = defaultState(catalog, current.system, current.preset);
-  if (current.preset === '') next.preset = '';
-  if (current.window === defaultWindow(current.t_end)) current.window = next.window;
-  Object.assign(current, { params: next.params, q: next.q, v: next.v, step: next.step, t_end: next.t_end });
-  form.fill(current);
-}
-
-function openEditor(current) {
-  const sys = customFrom(catalog, current.system, current.params);
-  const offered = customIntegrals(sys);
-  const next = defaultCustomState(catalog, sys);
-  const integrals = current.integrals.filter((i) => offered.includes(i));
-  Object.assign(next, {
-    q: current.q,
-    v: current.v,
-    step: current.step,
-    t_end: current.t_end,
-    points: current.points,
-    methods: current.methods.length ? current.methods : next.methods,
-    integrals: integrals.length ? integrals : next.integrals,
-    stat: current.stat,
-    smooth: current.smooth,
-    window: current.window,
-  });
-  form.fill(next);
-}
-
-// "Start from" a built-in: its formulas at its first preset's parameters, that preset's
-// initial state and times; the methods and display stay.
 function startFrom(id) {
   if (!id) return;
-  const { state: current } = form.read();
-  const base = defaultState(catalog, id);
-  openEditor({ ...base, methods: current.methods, points: current.points, stat: current.stat, smooth: current.smooth });
+  form.fill(startedFrom(catalog, form.read().state, id));
   $('custom-start').value = id;
 }
 
@@ -388,12 +328,6 @@ function setBusy(busy) {
 function banner(node, text) {
   node.textContent = text;
   node.hidden = false;
-}
-
-function fileStem() {
-  const s = result.scene;
-  const system = isCustom(s.system) ? systemName(s.system, catalog).toLowerCase().replace(/[^a-z0-9]+/g, '-').replace(/^-|-$/g, '') || 'custom' : s.system;
-  return ['nhlab', system, s.preset].filter(Boolean).join('-');
 }
 
 start();
