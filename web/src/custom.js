@@ -184,9 +184,15 @@ function splitItems(text) {
   return text.split(',').map((s) => s.replace(/%(25|2C)/gi, (m) => (m === '%25' ? '%' : ',')));
 }
 
-/** A scene as a file-name stem: `nhlab-<system>-<preset>` (a custom system by its name). */
+const slug = (s) => String(s).toLowerCase().replace(/[^a-z0-9_]+/g, '-').replace(/^-|-$/g, '');
+
+/** A system for a file name: a built-in's id, a custom system's name in lower case and
+ *  dashes (`custom` when it has none). */
+export function systemSlug(system, catalog) {
+  return isCustom(system) ? slug(systemName(system, catalog)) || 'custom' : slug(system ?? 'scene');
+}
+
+/** A scene as a file-name stem: `nhlab-<system>-<preset>`. */
 export function sceneStem(scene, catalog) {
-  const slug = (s) => String(s).toLowerCase().replace(/[^a-z0-9_]+/g, '-').replace(/^-|-$/g, '');
-  const system = isCustom(scene?.system) ? slug(systemName(scene.system, catalog)) || 'custom' : slug(scene?.system ?? 'scene');
-  return ['nhlab', system, scene?.preset ? slug(scene.preset) : ''].filter(Boolean).join('-');
+  return ['nhlab', systemSlug(scene?.system, catalog), scene?.preset ? slug(scene.preset) : ''].filter(Boolean).join('-');
 }

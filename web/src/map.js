@@ -8,7 +8,7 @@
 
 import { ApiError, retrying, sweep } from './api.js';
 import { findMethod } from './catalog.js';
-import { isCustom, sceneCaption, systemName } from './custom.js';
+import { sceneCaption, systemSlug } from './custom.js';
 import { Heatmap } from './heatmap.js';
 import { MapControls } from './mapcontrols.js';
 import { MapLine } from './mapline.js';
@@ -292,9 +292,8 @@ export class MapView {
 
   #stem() {
     const { state } = this.read();
-    const system = isCustom(state.system) ? systemName(state.system, this.catalog).toLowerCase().replace(/[^a-z0-9]+/g, '-') || 'custom' : state.system;
     const axes = this.result.axes.map((a) => a.path.replace(/[^A-Za-z0-9]+/g, '-')).join('-x-');
-    return ['nhlab-map', system, axes].filter(Boolean).join('-');
+    return ['nhlab-map', systemSlug(state.system, this.catalog), axes].filter(Boolean).join('-');
   }
 
   #busy(busy) {

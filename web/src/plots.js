@@ -40,7 +40,8 @@ export class Plots {
   /** `caption(scene)`: a line under each chart's title naming the scene (none without it);
    *  `label(run)`: a curve's label (the run's, for people, by default); `stem(scene)`: the
    *  exported file name's start; `group`: a `{extents: Map}` shared by plots drawn on one
-   *  y-range (its members, a Set of these plots, are redrawn when one changes its range); `catalog`: GET /systems, for each method's colour and marker (palette.js). */
+   *  y-range (its `members`, a Set of these plots, are redrawn when one changes its range);
+   *  `catalog`: GET /systems, for each method's colour and marker (palette.js). */
   constructor(container, { caption, label, stem, group, catalog } = {}) {
     this.container = container;
     this.caption = caption;

@@ -45,20 +45,6 @@ export class SvgContext {
     };
   }
 
-  // The drawing state, read and written as a canvas context's properties.
-  get fillStyle() { return this.state.fillStyle; }
-  set fillStyle(v) { this.state.fillStyle = v; }
-  get strokeStyle() { return this.state.strokeStyle; }
-  set strokeStyle(v) { this.state.strokeStyle = v; }
-  get lineWidth() { return this.state.lineWidth; }
-  set lineWidth(v) { this.state.lineWidth = v; }
-  get font() { return this.state.font; }
-  set font(v) { this.state.font = v; }
-  get textAlign() { return this.state.textAlign; }
-  set textAlign(v) { this.state.textAlign = v; }
-  get textBaseline() { return this.state.textBaseline; }
-  set textBaseline(v) { this.state.textBaseline = v; }
-
   setTransform() {}
   clearRect() {}
 
@@ -154,4 +140,17 @@ export class SvgContext {
     const element = `${open}${t}${close}`;
     this.parts.push(clip ? `<g clip-path="url(#${clip})">${element}</g>` : element);
   }
+}
+
+// The drawing state, read and written as a canvas context's properties (save and restore
+// keep it whole).
+for (const name of ['fillStyle', 'strokeStyle', 'lineWidth', 'font', 'textAlign', 'textBaseline']) {
+  Object.defineProperty(SvgContext.prototype, name, {
+    get() {
+      return this.state[name];
+    },
+    set(value) {
+      this.state[name] = value;
+    },
+  });
 }

@@ -50,7 +50,7 @@ export function renderAnswer(answer, { plots, table, orient, scene, stem, width,
     const alt = el('p', 'sr-only plot-alt');
     card.append(head, caption, target, foot, alt);
     const pairs = (c) => distinctX(p.swap ? c.time.map(([t, e]) => [e, t]).sort((a, b) => a[0] - b[0]) : c[p.key]);
-    const data = uPlot.join(cs.map((c) => [pairs(c).map(([x]) => x), pairs(c).map(([, y]) => y)]));
+    const data = uPlot.join(cs.map(pairs).map((xy) => [xy.map(([x]) => x), xy.map(([, y]) => y)]));
     const u = new uPlot(options(cs, p, width, styles), cs.length ? data : [[]], target);
     legendSwatches(u, styles);
     card.uplot = u; // for the browser test: the drawn series

@@ -2,7 +2,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
 import { fieldLabel, humanLabel } from '../src/labels.js';
-import { sceneCaption, sceneStem } from '../src/custom.js';
+import { sceneCaption, sceneStem, systemSlug } from '../src/custom.js';
 
 const catalog = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
 
@@ -42,4 +42,10 @@ test('a scene is named for people and for files', () => {
   const custom = { system: { name: 'My Toy (v2)', passenger: ['x', 'y'], driver: 'z', parameters: {}, constraints: [] } };
   assert.equal(sceneStem(custom, catalog), 'nhlab-my-toy-v2');
   assert.equal(sceneStem({ system: { name: '' } }, catalog), 'nhlab-custom-system');
+});
+
+test('a system in a file name: a built-in by its id, a custom one by its name', () => {
+  assert.equal(systemSlug('cvt_pendulum', catalog), 'cvt_pendulum');
+  assert.equal(systemSlug({ name: ' Skate, in a bowl! ' }, catalog), 'skate-in-a-bowl');
+  assert.equal(systemSlug({ name: '***' }, catalog), 'custom');
 });
