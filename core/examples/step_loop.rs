@@ -2,23 +2,47 @@
 //! `bench/fast_path_instructions.sh` counts under callgrind (instructions per step are the
 //! difference between two step counts, so that setting up and exiting cancel).
 //!
-//! `step_loop SYSTEM METHOD PATH STEPS`: METHOD is an index into `Method::all()` (the paper's
-//! five, then the others), PATH `fast` (the method's default) or `general`; `step_loop list`
-//! prints the indices and which have a general path.
+//! `step_loop SYSTEM METHOD PATH STEPS [PRESET]`: METHOD is an index into `Method::all()` (the
+//! paper's five, then the others), PATH `fast` (the method's default), `general`, or
+//! `formulas` (the default path on the system given as formulas, `FormulaSpec::of`); PRESET an
+//! index into the system's presets (0 if left out). `step_loop list` prints the indices and
+//! which methods have a general path.
 
-use nhlab_core::BuiltIn;
+use nhlab_core::model::custom::Custom;
+use nhlab_core::{BuiltIn, CustomLimits, CustomSystem, FormulaSpec, Preset, System};
 use nhlab_core::{Method, State, Vector, for_each_system};
 
-fn run<S: BuiltIn<N, R>, const N: usize, const R: usize>(system: &str, m: &Method, steps: u64) {
-    if S::info().id != system {
+/// What runs: the method, whether on the system given as formulas, the preset, the steps.
+struct Run {
+    method: Method,
+    formulas: bool,
+    preset: usize,
+    steps: u64,
+}
+
+fn run<S: BuiltIn<N, R>, const N: usize, const R: usize>(system: &str, run: &Run) {
+    let info = S::info();
+    if info.id != system {
         return;
     }
-    let p = &S::info().presets[0];
-    let sys = S::new(&S::info().preset_params(p));
+    let p = &info.presets[run.preset.min(info.presets.len() - 1)];
+    let sys = S::new(&info.preset_params(p));
+    if run.formulas {
+        let overrides: Vec<_> = p.params.iter().map(|(n, v)| (n.to_string(), *v)).collect();
+        let compiled =
+            CustomSystem::compile(&FormulaSpec::of(info), &overrides, &CustomLimits::default())
+                .expect("a built-in's formula form compiles");
+        steps_on(&Custom::<N, R>::new(compiled.compiled), p, run);
+    } else {
+        steps_on(&sys, p, run);
+    }
+}
+
+fn steps_on<S: System<N, R>, const N: usize, const R: usize>(sys: &S, p: &Preset, run: &Run) {
     let (q, v) = (Vector::<N>::from_column_slice(p.q), Vector::<N>::from_column_slice(p.v));
-    let mut st = State::with_continuous_multiplier(&sys, q, v).expect("a preset is regular");
-    m.steps(&sys, &mut st, p.step, steps).expect("the preset runs");
-    println!("{} on {system}: q = {:?}", m.label(), st.q.as_slice());
+    let mut st = State::with_continuous_multiplier(sys, q, v).expect("a preset is regular");
+    run.method.steps(sys, &mut st, p.step, run.steps).expect("the preset runs");
+    println!("{} on {}: q = {:?}", run.method.label(), p.id, st.q.as_slice());
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -30,15 +54,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         return Ok(());
     }
-    let [system, method, path, steps] = args.as_slice() else {
-        return Err("usage: step_loop SYSTEM METHOD PATH STEPS | step_loop list".into());
+    let (system, method, path, steps, preset) = match args.as_slice() {
+        [s, m, p, n] => (s, m, p, n, "0"),
+        [s, m, p, n, preset] => (s, m, p, n, preset.as_str()),
+        _ => {
+            return Err(
+                "usage: step_loop SYSTEM METHOD PATH STEPS [PRESET] | step_loop list".into()
+            );
+        }
     };
     let m = all.get(method.parse::<usize>()?).ok_or("no such method index")?;
-    let m = match path.as_str() {
-        "fast" => *m,
+    let method = match path.as_str() {
+        "fast" | "formulas" => *m,
         "general" => m.general_path().ok_or("this method has no general path")?,
-        _ => return Err("PATH is fast or general".into()),
+        _ => return Err("PATH is fast, general or formulas".into()),
     };
-    for_each_system!(run, system, &m, steps.parse()?);
+    let r = Run {
+        method,
+        formulas: path == "formulas",
+        preset: preset.parse()?,
+        steps: steps.parse()?,
+    };
+    for_each_system!(run, system, &r);
     Ok(())
 }

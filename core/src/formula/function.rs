@@ -4,6 +4,7 @@
 
 use super::jit::Jitted;
 use super::tape::Tape;
+use std::mem::MaybeUninit;
 
 /// Most instructions of a tape compiled to machine code.
 pub const MAX_NATIVE: usize = 4096;
@@ -45,8 +46,38 @@ impl Function {
     pub fn eval(&self, vars: &[f64], out: &mut [f64]) {
         match &self.native {
             Some(code) => code.eval(vars, out),
-            None => self.tape.eval(vars, out),
+            None => self.interpreted(vars, out),
         }
+    }
+
+    /// The tape's interpreter, out of line: inlined, its loop made the callers of the machine
+    /// code too large to be inlined in turn.
+    #[inline(never)]
+    fn interpreted(&self, vars: &[f64], out: &mut [f64]) {
+        self.tape.eval(vars, out)
+    }
+
+    /// [`eval`](Self::eval) into memory that need not be initialized (at least
+    /// [`outputs`](Self::outputs) long); the outputs, written.
+    #[inline]
+    pub fn eval_uninit<'a>(&self, vars: &[f64], out: &'a mut [MaybeUninit<f64>]) -> &'a [f64] {
+        match &self.native {
+            Some(code) => code.eval_uninit(vars, out),
+            None => self.interpreted_uninit(vars, out),
+        }
+    }
+
+    /// [`eval_uninit`](Self::eval_uninit) by the interpreter, out of line as `interpreted`.
+    #[inline(never)]
+    fn interpreted_uninit<'a>(&self, vars: &[f64], out: &'a mut [MaybeUninit<f64>]) -> &'a [f64] {
+        let out = &mut out[..self.outputs()];
+        for o in out.iter_mut() {
+            o.write(f64::NAN);
+        }
+        // SAFETY: every element was just written, and `MaybeUninit<f64>` is laid out as `f64`.
+        let out = unsafe { &mut *(std::ptr::from_mut(out) as *mut [f64]) };
+        self.tape.eval(vars, out);
+        out
     }
 
     /// [`eval`](Self::eval), the tape (if it runs) with the caller's slots.

@@ -16,9 +16,15 @@ use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{Linkage, Module, default_libcall_names};
+use std::mem::MaybeUninit;
 
-/// Compiled code: `f(vars, out)`.
-type Code = unsafe extern "C" fn(*const f64, *mut f64);
+/// Most variables of a tape compiled to machine code: they are passed in registers.
+pub const MAX_VARS: usize = 6;
+
+/// Compiled code: `f(x₀, …, x₅, out)`, the variables in registers (unused ones are ignored):
+/// a step calls the driver's code on its Newton chain, where a trip through memory for the
+/// inputs would add a store and a load to each iteration's latency.
+type Code = unsafe extern "C" fn(f64, f64, f64, f64, f64, f64, *mut f64);
 
 /// A tape as machine code; see the module's doc.
 pub struct Jitted {
@@ -82,8 +88,12 @@ impl Jitted {
             .map_err(|e| e.to_string())?;
         let mut module = JITModule::new(JITBuilder::with_isa(isa, default_libcall_names()));
         let ptr = module.target_config().pointer_type();
+        if tape.vars() > MAX_VARS {
+            return Err(format!("more than {MAX_VARS} variables"));
+        }
         let mut sig = module.make_signature();
-        sig.params.extend([AbiParam::new(ptr), AbiParam::new(ptr)]);
+        sig.params.extend([AbiParam::new(types::F64); MAX_VARS]);
+        sig.params.push(AbiParam::new(ptr));
         let id =
             module.declare_function("tape", Linkage::Local, &sig).map_err(|e| e.to_string())?;
         let mut ctx = Context::new();
@@ -95,7 +105,8 @@ impl Jitted {
             b.append_block_params_for_function_params(block);
             b.switch_to_block(block);
             b.seal_block(block);
-            let (vars, out) = (b.block_params(block)[0], b.block_params(block)[1]);
+            let params = b.block_params(block);
+            let (vars, out) = (params[..MAX_VARS].to_vec(), params[MAX_VARS]);
             let f64t = types::F64;
             let mut s1 = module.make_signature();
             s1.params.push(AbiParam::new(f64t));
@@ -123,7 +134,7 @@ impl Jitted {
             for ins in tape.instructions() {
                 let v = match ins.op {
                     Op::Const(c) => b.ins().f64const(c),
-                    Op::Var(i) => b.ins().load(f64t, flags, vars, 8 * i as i32),
+                    Op::Var(i) => vars[i as usize],
                     Op::Add(x, y) => {
                         let (x, y) = (get(&slot, x)?, get(&slot, y)?);
                         b.ins().fadd(x, y)
@@ -226,12 +237,25 @@ impl Jitted {
     /// Evaluates the outputs at `vars` into `out`, as [`Tape::eval`] does.
     #[inline]
     pub fn eval(&self, vars: &[f64], out: &mut [f64]) {
-        assert!(
-            vars.len() >= self.vars && out.len() >= self.outputs,
-            "a tape's inputs and outputs"
-        );
-        // SAFETY: the code reads `self.vars` doubles from `vars` and writes `self.outputs` to
-        // `out`, both within the slices (asserted above).
-        unsafe { (self.code)(vars.as_ptr(), out.as_mut_ptr()) }
+        self.call(vars, out.as_mut_ptr(), out.len());
+    }
+
+    /// [`eval`](Self::eval) into memory that need not be initialized; the outputs, written.
+    #[inline]
+    pub fn eval_uninit<'a>(&self, vars: &[f64], out: &'a mut [MaybeUninit<f64>]) -> &'a [f64] {
+        self.call(vars, out.as_mut_ptr().cast(), out.len());
+        // SAFETY: `call` wrote the first `self.outputs` doubles of `out`.
+        unsafe { std::slice::from_raw_parts(out.as_ptr().cast(), self.outputs) }
+    }
+
+    /// Runs the code on `vars`, writing the outputs to `out`, which has room for `room`.
+    #[inline]
+    fn call(&self, vars: &[f64], out: *mut f64, room: usize) {
+        assert!(vars.len() >= self.vars && room >= self.outputs, "a tape's inputs and outputs");
+        // Unused arguments are ignored: any value will do, and a known length drops the test.
+        let x = |i: usize| vars.get(i).copied().unwrap_or(0.0);
+        // SAFETY: the code writes `self.outputs` doubles to `out`, which has room for them
+        // (asserted above), and reads nothing but its arguments.
+        unsafe { (self.code)(x(0), x(1), x(2), x(3), x(4), x(5), out) }
     }
 }

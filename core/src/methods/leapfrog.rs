@@ -55,8 +55,8 @@ impl Stepper for Leapfrog {
         // q₁ = q₀ + h q̇₀ + h Δq̇_½: q̇₀ enters last, as it is what the previous step just made.
         st.advance_q_parts(h * st.v, h * dv_half);
         let q1 = st.q;
-        let a1 = sys.constraint(q1[N - 1]);
-        let g1 = sys.gradient(&q1);
+        let at_q1 = sys.driver_terms(q1[N - 1]);
+        let (a1, g1) = (at_q1.constraint, at_q1.gradient(sys, &q1));
         let w = v_half - 0.5 * h * g1;
         // v₁ = w + (h/2) A₁ᵀ λ₁ with A₁ v₁ = 0. A singular A₁A₁ᵀ gives NaN here and is told
         // apart below: checking it only once the whole update is known keeps sin ζ₁ (in A₁)
@@ -74,7 +74,7 @@ impl Stepper for Leapfrog {
         }
         st.advance_v_parts(kick, dv_half);
         st.lambda = lambda1;
-        mem.remember(st, a1, sys.driver_potential(q1[N - 1]), g1[N - 1]);
+        mem.remember(st, a1, at_q1.potential, g1[N - 1]);
         Ok(())
     }
 }

@@ -92,12 +92,11 @@ impl Stepper for Rk4 {
         // The multiplier at q₁ (the state carries it), and with it q̈ for the next step and
         // A, V_d, V_d' for the integrals there: one evaluation, one sin/cos.
         let (q1, v1, zeta) = (st.q, st.v, st.q[N - 1]);
-        let (g, a) = (sys.gradient(&q1), sys.constraint(zeta));
-        let lambda = sys.continuous_multiplier_with(&q1, &v1, &g, &a);
-        let v_d = sys.driver_potential(zeta);
-        st.lambda = lambda.ok_or(StepFailure::Singular)?;
-        mem.acceleration.remember(st, constraint_force(&a, &st.lambda) - g);
-        mem.end.remember(st, a, v_d, g[N - 1]);
+        let at_q1 = sys.driver_terms(zeta);
+        let g = at_q1.gradient(sys, &q1);
+        st.lambda = at_q1.continuous_multiplier(&g, &v1).ok_or(StepFailure::Singular)?;
+        mem.acceleration.remember(st, constraint_force(&at_q1.constraint, &st.lambda) - g);
+        mem.end.remember(st, at_q1.constraint, at_q1.potential, g[N - 1]);
         Ok(())
     }
 }

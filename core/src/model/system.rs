@@ -153,6 +153,14 @@ impl<const N: usize, const R: usize> DriverTerms<N, R> {
         g[N - 1] = self.potential_d1;
         g
     }
+    /// The continuous multiplier (`docs/model.md` §1, `A Aᵀ λ = A ∇V − Ȧ q̇`) at q, given
+    /// `∇V(q)`, with these terms taken at q's ζ; `None` when `A Aᵀ` is singular.
+    #[inline]
+    pub fn continuous_multiplier(&self, gradient: &Vector<N>, v: &Vector<N>) -> Option<Vector<R>> {
+        let (a, a_dot) = (&self.constraint, self.constraint_d * v[N - 1]);
+        let rhs = a * gradient - a_dot * v;
+        crate::solver::linalg::solve(&(a * a.transpose()), &rhs)
+    }
     /// `∇²V(q)`, with these terms taken at q's ζ.
     #[inline]
     pub fn hessian<S: System<N, R>>(&self, sys: &S, q: &Vector<N>) -> Matrix<N, N> {
@@ -305,25 +313,14 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     /// `(q, q̇)`; `None` when `A Aᵀ` is singular.
     #[inline]
     fn acceleration(&self, q: &Vector<N>, v: &Vector<N>) -> Option<(Vector<N>, Vector<R>)> {
-        let (g, a) = (self.gradient(q), self.constraint(q[N - 1]));
-        let lambda = self.continuous_multiplier_with(q, v, &g, &a)?;
-        Some((constraint_force(&a, &lambda) - g, lambda))
+        let at_q = self.driver_terms(q[N - 1]);
+        let g = at_q.gradient(self, q);
+        let lambda = at_q.continuous_multiplier(&g, v)?;
+        Some((constraint_force(&at_q.constraint, &lambda) - g, lambda))
     }
     /// The continuous multiplier of `docs/model.md` §1: `A Aᵀ λ = A ∇V − Ȧ q̇`.
     fn continuous_multiplier(&self, q: &Vector<N>, v: &Vector<N>) -> Option<Vector<R>> {
-        self.continuous_multiplier_with(q, v, &self.gradient(q), &self.constraint(q[N - 1]))
-    }
-    /// [`System::continuous_multiplier`] given `∇V(q)` and `A(q)`.
-    #[inline]
-    fn continuous_multiplier_with(
-        &self,
-        q: &Vector<N>,
-        v: &Vector<N>,
-        gradient: &Vector<N>,
-        a: &Matrix<R, N>,
-    ) -> Option<Vector<R>> {
-        let a_dot = self.constraint_d(q[N - 1]) * v[N - 1];
-        let rhs = a * gradient - a_dot * v;
-        crate::solver::linalg::solve(&(a * a.transpose()), &rhs)
+        let at_q = self.driver_terms(q[N - 1]);
+        at_q.continuous_multiplier(&at_q.gradient(self, q), v)
     }
 }

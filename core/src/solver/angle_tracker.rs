@@ -106,8 +106,10 @@ impl AngleTracker {
     }
 
     /// The driver's terms at ζ: from the tracked sine and cosine where ζ is an angle, as the
-    /// system evaluates them otherwise.
-    #[inline]
+    /// system evaluates them otherwise. Always inlined: on a system given as formulas the call
+    /// to its code made this too large for the compiler's own choice, and out of line it slowed
+    /// the implicit steps there.
+    #[inline(always)]
     pub(crate) fn terms<S: System<N, R>, const N: usize, const R: usize>(
         &mut self,
         sys: &S,

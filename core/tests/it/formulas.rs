@@ -125,8 +125,16 @@ proptest! {
         prop_assert!(native.is_native());
         let mut fast = vec![0.0; outputs.len()];
         native.eval(&p, &mut fast);
-        for (a, b) in fast.iter().zip(&out) {
-            prop_assert!(a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()), "{text}: {a} vs {b}");
+        // So do both into uninitialized memory, as the steps call them.
+        let interpreted = Function::new(tape.clone(), false);
+        let mut spare = [std::mem::MaybeUninit::uninit(); 4];
+        let fast_uninit = native.eval_uninit(&p, &mut spare).to_vec();
+        let slow_uninit = interpreted.eval_uninit(&p, &mut spare).to_vec();
+        prop_assert!(fast_uninit.len() == out.len() && slow_uninit.len() == out.len());
+        for ((a, b), (c, d)) in fast.iter().zip(&out).zip(fast_uninit.iter().zip(&slow_uninit)) {
+            for x in [a, c, d] {
+                prop_assert!(x.to_bits() == b.to_bits() || (x.is_nan() && b.is_nan()), "{text}: {x} vs {b}");
+            }
         }
         for (k, &o) in outputs.iter().enumerate() {
             let want = g.eval(o, &p);

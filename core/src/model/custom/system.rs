@@ -9,6 +9,7 @@ use super::compile::{Compiled, Passenger};
 use super::driver_cache::{MAX_OUTPUTS, with_driver_terms};
 use crate::model::system::{DriverTerms, System};
 use crate::{Matrix, Vector};
+use std::mem::MaybeUninit;
 use std::sync::Arc;
 
 /// A system given as formulas with `N − 1` passengers and `R` constraints.
@@ -45,23 +46,71 @@ impl<const N: usize, const R: usize> Custom<N, R> {
         &q.as_slice()[..N - 1]
     }
 
-    fn terms_from(values: &[f64]) -> DriverTerms<N, R> {
+    /// U through its compiled formulas (where it is not quadratic). This and the two below are
+    /// out of line so that the quadratic case inlines into the steps.
+    #[inline(never)]
+    fn general_potential(&self, q: &Vector<N>) -> f64 {
+        let mut out = [f64::NAN];
+        if let Passenger::General(g) = &self.compiled.passenger {
+            g.u.eval(Self::x(q), &mut out);
+        }
+        out[0]
+    }
+    /// ∇U through its compiled formulas.
+    #[inline(never)]
+    fn general_gradient(&self, q: &Vector<N>) -> Vector<N> {
+        let mut g = Vector::<N>::zeros();
+        match &self.compiled.passenger {
+            Passenger::General(p) => p.gradient.eval(Self::x(q), &mut g.as_mut_slice()[..N - 1]),
+            Passenger::Quadratic { .. } => g.fill(f64::NAN),
+        }
+        g
+    }
+    /// ∇²U through its compiled formulas.
+    #[inline(never)]
+    fn general_hessian(&self, q: &Vector<N>) -> Matrix<N, N> {
+        let Passenger::General(g) = &self.compiled.passenger else {
+            return Matrix::<N, N>::repeat(f64::NAN);
+        };
+        // The upper triangle of at most 6 × 6.
+        let mut upper = [0.0; 21];
+        g.hessian.eval(Self::x(q), &mut upper[..(N - 1) * N / 2]);
+        let mut h = Matrix::<N, N>::zeros();
+        let mut k = 0;
+        for i in 0..N - 1 {
+            for j in i..N - 1 {
+                (h[(i, j)], h[(j, i)]) = (upper[k], upper[k]);
+                k += 1;
+            }
+        }
+        h
+    }
+
+    /// The driver's terms from the outputs of its code, each read by `read`.
+    #[inline]
+    fn terms_from(values: &[f64], read: impl Fn(&f64) -> f64) -> DriverTerms<N, R> {
+        let values = &values[..3 + 2 * R * (N - 1)];
         let (n, r) = (N - 1, R);
         let mut constraint = Matrix::<R, N>::zeros();
         let mut constraint_d = Matrix::<R, N>::zeros();
         for i in 0..r {
             for j in 0..n {
-                constraint[(i, j)] = values[3 + i * n + j];
-                constraint_d[(i, j)] = values[3 + r * n + i * n + j];
+                constraint[(i, j)] = read(&values[3 + i * n + j]);
+                constraint_d[(i, j)] = read(&values[3 + r * n + i * n + j]);
             }
         }
         DriverTerms {
             constraint,
             constraint_d,
-            potential: values[0],
-            potential_d1: values[1],
-            potential_d2: values[2],
+            potential: read(&values[0]),
+            potential_d1: read(&values[1]),
+            potential_d2: read(&values[2]),
         }
+    }
+
+    /// [`terms_from`](Self::terms_from) the remembered outputs.
+    fn terms_of(values: &[f64]) -> DriverTerms<N, R> {
+        Self::terms_from(values, |v| *v)
     }
 }
 
@@ -82,46 +131,25 @@ impl<const N: usize, const R: usize> System<N, R> for Custom<N, R> {
         self.compiled.angle
     }
 
+    #[inline]
     fn passenger_potential(&self, q: &Vector<N>) -> f64 {
-        match (&self.quadratic, &self.compiled.passenger) {
-            (Some((u0, b, h)), _) => u0 + b.dot(q) + 0.5 * q.dot(&(h * q)),
-            (None, Passenger::General(g)) => {
-                let mut out = [0.0];
-                g.u.eval(Self::x(q), &mut out);
-                out[0]
-            }
-            (None, Passenger::Quadratic { .. }) => f64::NAN,
+        match &self.quadratic {
+            Some((u0, b, h)) => u0 + b.dot(q) + 0.5 * q.dot(&(h * q)),
+            None => self.general_potential(q),
         }
     }
+    #[inline]
     fn passenger_gradient(&self, q: &Vector<N>) -> Vector<N> {
-        match (&self.quadratic, &self.compiled.passenger) {
-            (Some((_, b, h)), _) => b + h * q,
-            (None, Passenger::General(p)) => {
-                let mut g = Vector::<N>::zeros();
-                p.gradient.eval(Self::x(q), &mut g.as_mut_slice()[..N - 1]);
-                g
-            }
-            (None, Passenger::Quadratic { .. }) => Vector::<N>::repeat(f64::NAN),
+        match &self.quadratic {
+            Some((_, b, h)) => b + h * q,
+            None => self.general_gradient(q),
         }
     }
+    #[inline]
     fn passenger_hessian(&self, q: &Vector<N>) -> Matrix<N, N> {
-        match (&self.quadratic, &self.compiled.passenger) {
-            (Some((_, _, h)), _) => *h,
-            (None, Passenger::General(g)) => {
-                // The upper triangle of at most 6 × 6.
-                let mut upper = [0.0; 21];
-                g.hessian.eval(Self::x(q), &mut upper[..(N - 1) * N / 2]);
-                let mut h = Matrix::<N, N>::zeros();
-                let mut k = 0;
-                for i in 0..N - 1 {
-                    for j in i..N - 1 {
-                        (h[(i, j)], h[(j, i)]) = (upper[k], upper[k]);
-                        k += 1;
-                    }
-                }
-                h
-            }
-            (None, Passenger::Quadratic { .. }) => Matrix::<N, N>::repeat(f64::NAN),
+        match &self.quadratic {
+            Some((_, _, h)) => *h,
+            None => self.general_hessian(q),
         }
     }
     fn driver_potential(&self, zeta: f64) -> f64 {
@@ -134,21 +162,25 @@ impl<const N: usize, const R: usize> System<N, R> for Custom<N, R> {
         with_driver_terms(&self.compiled, zeta, |v| v[2])
     }
     fn constraint(&self, zeta: f64) -> Matrix<R, N> {
-        with_driver_terms(&self.compiled, zeta, Self::terms_from).constraint
+        with_driver_terms(&self.compiled, zeta, Self::terms_of).constraint
     }
     fn constraint_d(&self, zeta: f64) -> Matrix<R, N> {
-        with_driver_terms(&self.compiled, zeta, Self::terms_from).constraint_d
+        with_driver_terms(&self.compiled, zeta, Self::terms_of).constraint_d
     }
     fn driver_terms(&self, zeta: f64) -> DriverTerms<N, R> {
-        with_driver_terms(&self.compiled, zeta, Self::terms_from)
+        with_driver_terms(&self.compiled, zeta, Self::terms_of)
     }
+    #[inline]
     fn driver_terms_trig(&self, zeta: f64, sin: f64, cos: f64) -> DriverTerms<N, R> {
         if self.compiled.angle {
             // A Newton iteration's inputs are new each time: evaluated here, not kept.
-            let mut values = [0.0; MAX_OUTPUTS];
-            let k = self.compiled.driver.outputs();
-            self.compiled.driver.eval(&[zeta, sin, cos], &mut values[..k]);
-            Self::terms_from(&values)
+            let mut values = [MaybeUninit::uninit(); MAX_OUTPUTS];
+            let values = self.compiled.driver.eval_uninit(&[zeta, sin, cos], &mut values);
+            // One load per output: the code has just stored them one by one, and a wider load
+            // across two of those stores waits for them to reach the cache (on the Newton
+            // chain, where it made DD's step slower; a remembered output is read long after).
+            // SAFETY: a reference to an `f64`.
+            Self::terms_from(values, |v| unsafe { std::ptr::read_volatile(v) })
         } else {
             self.driver_terms(zeta)
         }
