@@ -25,7 +25,10 @@ fn run<S: BuiltIn<N, R>, const N: usize, const R: usize>(system: &str, run: &Run
     if info.id != system {
         return;
     }
-    let p = &info.presets[run.preset.min(info.presets.len() - 1)];
+    let Some(p) = info.presets.get(run.preset) else {
+        eprintln!("{system} has {} presets, numbered from 0", info.presets.len());
+        std::process::exit(2);
+    };
     let sys = S::new(&info.preset_params(p));
     if run.formulas {
         let overrides: Vec<_> = p.params.iter().map(|(n, v)| (n.to_string(), *v)).collect();

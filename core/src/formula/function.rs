@@ -46,15 +46,8 @@ impl Function {
     pub fn eval(&self, vars: &[f64], out: &mut [f64]) {
         match &self.native {
             Some(code) => code.eval(vars, out),
-            None => self.interpreted(vars, out),
+            None => self.tape.eval(vars, out),
         }
-    }
-
-    /// The tape's interpreter, out of line: inlined, its loop made the callers of the machine
-    /// code too large to be inlined in turn.
-    #[inline(never)]
-    fn interpreted(&self, vars: &[f64], out: &mut [f64]) {
-        self.tape.eval(vars, out)
     }
 
     /// [`eval`](Self::eval) into memory that need not be initialized (at least
@@ -67,8 +60,7 @@ impl Function {
         }
     }
 
-    /// [`eval_uninit`](Self::eval_uninit) by the interpreter, out of line as `interpreted`.
-    #[inline(never)]
+    /// [`eval_uninit`](Self::eval_uninit) by the interpreter.
     fn interpreted_uninit<'a>(&self, vars: &[f64], out: &'a mut [MaybeUninit<f64>]) -> &'a [f64] {
         let out = &mut out[..self.outputs()];
         for o in out.iter_mut() {

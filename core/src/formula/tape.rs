@@ -211,8 +211,10 @@ impl Tape {
     }
 
     /// Evaluates the outputs at `vars` (at least the tape's number of variables) into `out`
-    /// (one per output), with this thread's slots.
-    #[inline]
+    /// (one per output), with this thread's slots. Out of line: inlined, the interpreter's loop
+    /// made the callers of [`Function`](super::function::Function) too large to be inlined in
+    /// turn, and with them the call to the machine code beside it.
+    #[inline(never)]
     pub fn eval(&self, vars: &[f64], out: &mut [f64]) {
         SLOTS.with_borrow_mut(|slots| self.eval_with(vars, slots, out));
     }
