@@ -87,10 +87,15 @@ export function decades(min, max, height) {
   return out;
 }
 
+/** 10 to the integer power `k`, the exponent in superscript: 10⁻¹². */
+export function powerOfTen(k) {
+  return `10${superscript(k)}`;
+}
+
 // 1e-12 → "10⁻¹²"; 1 and 10 as themselves.
 export function power(v) {
   const e = Math.round(Math.log10(v));
   if (e === 0) return '1';
   if (e === 1) return '10';
-  return `10${superscript(e)}`;
+  return powerOfTen(e);
 }

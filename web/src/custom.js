@@ -184,7 +184,8 @@ function splitItems(text) {
   return text.split(',').map((s) => s.replace(/%(25|2C)/gi, (m) => (m === '%25' ? '%' : ',')));
 }
 
-const slug = (s) => String(s).toLowerCase().replace(/[^a-z0-9_]+/g, '-').replace(/^-|-$/g, '');
+/** `s` as a part of a file name: lower case, runs of other characters as one `-`. */
+export const slug = (s) => String(s).toLowerCase().replace(/[^a-z0-9_]+/g, '-').replace(/^-|-$/g, '');
 
 /** A system for a file name: a built-in's id, a custom system's name in lower case and
  *  dashes (`custom` when it has none). */

@@ -6,6 +6,7 @@
 
 import { download, el } from './dom.js';
 import { addMarker, markerFill, svgPen } from './palette.js';
+import { esc } from './svgcanvas.js';
 
 export const FONT = 'system-ui, -apple-system, "Segoe UI", Roboto, Arial, sans-serif';
 
@@ -144,7 +145,6 @@ export function chartCanvas(u, { title = '', caption = '', styles = null } = {})
   return out;
 }
 
-const esc = (t) => String(t).replace(/&/g, '&amp;').replace(/</g, '&lt;').replace(/>/g, '&gt;').replace(/"/g, '&quot;');
 const n = (v) => Number(v.toFixed(2));
 
 /** The chart as an SVG document: title, caption, axes with their ticks, the series, legend. */

@@ -9,7 +9,7 @@
 import { FLOOR } from './series.js';
 import { VERDICTS } from './verdicts.js';
 import { el } from './dom.js';
-import { superscript } from './labels.js';
+import { powerOfTen } from './axes.js';
 
 /** Fill colours of the verdicts and of the cells that have none. */
 export const KIND_COLORS = {
@@ -29,6 +29,14 @@ export const KIND_MARKS = {
   failed: '✕',
   invalid: '⊘',
 };
+
+/** The kinds of cell besides the verdicts, as the keys name them: short (an exported
+ *  picture's key line) and long (the page's legend). */
+export const OTHER_KINDS = [
+  { kind: 'none', short: 'no value', long: 'no verdict' },
+  { kind: 'failed', short: 'failed', long: 'run failed' },
+  { kind: 'invalid', short: 'invalid', long: 'invalid here (the values make the scene or method invalid)' },
+];
 
 /** Errors below this are coloured as it (exact to round-off, or exactly 0): the plots' floor. */
 export const LOG_FLOOR = FLOOR;
@@ -70,11 +78,6 @@ export function cellColor({ kind, max }, mode, range) {
 /** Every `step`-th tick, so that labels at least `minPx` apart fit `n` cells over `px`. */
 export function tickStep(n, px, minPx) {
   return Math.max(1, Math.ceil((n * minPx) / Math.max(px, 1)));
-}
-
-/** 10 to a power, with the exponent in superscript: 10⁻¹². */
-export function powerOfTen(k) {
-  return `10${superscript(k) ?? `^${k}`}`;
 }
 
 function rgb(hex) {
@@ -128,9 +131,8 @@ export class Heatmap {
     return { width, height: MARGIN.top + ph + MARGIN.bottom, left, top: MARGIN.top, pw, ph, cw: pw / m.xs.length, ch: ph / ny, ny };
   }
 
-  /** A cell's rectangle (CSS pixels, relative to the canvas). */
-  rectOf(cell) {
-    const L = this.layout();
+  /** A cell's rectangle (CSS pixels, relative to the canvas) in layout `L`. */
+  rectOf(cell, L = this.layout()) {
     const { x, y } = this.model.xyOf(cell);
     return { x: L.left + x * L.cw, y: L.top + (L.ny - 1 - y) * L.ch, w: L.cw, h: L.ch };
   }
@@ -155,7 +157,7 @@ export class Heatmap {
     ctx.clearRect(0, 0, L.width, L.height);
     this.paint(ctx, L);
     if (this.hover !== null && this.hover < m.cells) {
-      const r = this.rectOf(this.hover);
+      const r = this.rectOf(this.hover, L);
       ctx.strokeStyle = '#0f172a';
       ctx.lineWidth = 2;
       ctx.strokeRect(r.x + 1, r.y + 1, Math.max(1, r.w - 3), Math.max(1, r.h - 3));
@@ -175,7 +177,7 @@ export class Heatmap {
     ctx.font = '600 11px system-ui, sans-serif';
     const letters = L.cw >= 13 && L.ch >= 13;
     states.forEach((s, c) => {
-      const r = this.rectOf(c);
+      const r = this.rectOf(c, L);
       const gap = L.cw > 4 && L.ch > 4 ? 1 : 0;
       ctx.fillStyle = cellColor(s, m.mode, range);
       ctx.fillRect(r.x, r.y, r.w - gap, r.h - gap);

@@ -8,8 +8,8 @@
 
 import { ApiError, retrying, sweep } from './api.js';
 import { findMethod } from './catalog.js';
-import { sceneCaption, systemSlug } from './custom.js';
-import { Heatmap } from './heatmap.js';
+import { sceneCaption, slug, systemSlug } from './custom.js';
+import { Heatmap, KIND_MARKS, OTHER_KINDS } from './heatmap.js';
 import { MapControls } from './mapcontrols.js';
 import { MapLine } from './mapline.js';
 import PRESETS from './map-presets.json';
@@ -246,9 +246,7 @@ export class MapView {
       : VERDICTS.map((v) => item(v.kind, v.letter, `${v.label}: ${v.text}`));
     this.legend.replaceChildren(
       ...kinds,
-      item('none', '–', 'no verdict'),
-      item('failed', '✕', 'run failed'),
-      item('invalid', '⊘', 'invalid here (the values make the scene or method invalid)'),
+      ...OTHER_KINDS.map((k) => item(k.kind, KIND_MARKS[k.kind], k.long)),
       item('pending', '', 'not computed yet'),
     );
     this.criterion.textContent = r.criterion ? `Criterion: ${r.criterion}` : '';
@@ -283,16 +281,20 @@ export class MapView {
     const { integral, color } = this.controls.read();
     const line = kind === 'line';
     const title = line ? `Largest ${integral} error against ${this.result?.axes[0]?.path}` : this.root.querySelector('.map-title').textContent;
-    const key = color === 'log' && !line
-      ? 'Colour: log₁₀ of the largest error over the run (the bar at the right); – no value, ✕ failed, ⊘ invalid'
-      : `${VERDICTS.map((v) => `${v.letter} ${v.label}`).join(' · ')} · – no value · ✕ failed · ⊘ invalid`;
+    const stem = `${this.computed.stem}${line ? '-line' : ''}`;
+    // The line plot's export draws its own legend; only the heat map's needs a key.
+    if (line) return { title, caption: this.computed.caption, stem };
+    const others = OTHER_KINDS.map((k) => `${KIND_MARKS[k.kind]} ${k.short}`);
+    const key = color === 'log'
+      ? `Colour: log₁₀ of the largest error over the run (the bar at the right); ${others.join(', ')}`
+      : [...VERDICTS.map((v) => `${v.letter} ${v.label}`), ...others].join(' · ');
     const pending = this.result.received < this.result.cells ? ` · pale: not computed (${this.result.received} of ${this.result.cells} cells)` : '';
-    return { title, caption: this.computed.caption, key: `${key}${pending}`, stem: `${this.computed.stem}${line ? '-line' : ''}` };
+    return { title, caption: this.computed.caption, key: `${key}${pending}`, stem };
   }
 
   #stem() {
     const { state } = this.read();
-    const axes = this.result.axes.map((a) => a.path.replace(/[^A-Za-z0-9]+/g, '-')).join('-x-');
+    const axes = this.result.axes.map((a) => slug(a.path)).join('-x-');
     return ['nhlab-map', systemSlug(state.system, this.catalog), axes].filter(Boolean).join('-');
   }
 

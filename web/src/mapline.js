@@ -4,7 +4,8 @@
 // are gaps, never points; errors below the floor sit on it.
 
 import uPlot from 'uplot';
-import { LOG_FLOOR, powerOfTen } from './heatmap.js';
+import { LOG_FLOOR } from './heatmap.js';
+import { powerOfTen } from './axes.js';
 import { runWidth } from './plots.js';
 import { methodStyle } from './palette.js';
 import { legendSwatches, seriesStyle } from './markers.js';
@@ -58,6 +59,7 @@ export class MapLine {
     this.key = key;
     const axis = (label, values) => ({ label, stroke: '#475569', grid: { stroke: '#e2e8f0' }, ticks: { stroke: '#cbd5e1' }, values });
     const xValues = (u, splits) => splits.map((v) => (v === null || v === undefined ? '' : fmt(v)));
+    const styles = result.methods.map((m) => methodStyle(this.catalog, m));
     const opts = {
       width: this.#width(),
       height: HEIGHT,
@@ -66,7 +68,7 @@ export class MapLine {
       series: [
         { label: result.axes[0].path, value: (u, v) => (v === null ? '' : fmt(v)) },
         ...result.methods.map((m, i) => ({
-          ...seriesStyle(methodStyle(this.catalog, m), { width: i === chosen ? 3 : runWidth(i + 1), size: i === chosen ? 8 : 6, sparse: false }),
+          ...seriesStyle(styles[i], { width: i === chosen ? 3 : runWidth(i + 1), size: i === chosen ? 8 : 6, sparse: false }),
           label: humanLabel(m.label ?? m.id),
           spanGaps: false,
           value: (u, v) => (v === null ? '–' : v.toExponential(2)),
@@ -77,7 +79,6 @@ export class MapLine {
     card.className = 'map-line-plot';
     this.container.replaceChildren(card);
     this.u = new uPlot(opts, [[], ...result.methods.map(() => [])], card);
-    const styles = result.methods.map((m) => methodStyle(this.catalog, m));
     legendSwatches(this.u, styles);
     card.uplot = this.u; // for the browser test: the drawn series
     if (this.describe) card.append(exportButtons(() => this.u, () => ({ ...this.describe(), styles })));

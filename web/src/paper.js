@@ -19,7 +19,6 @@ import { VERDICTS, verdictTitle } from './verdicts.js';
 import { el } from './dom.js';
 import { sceneCaption, sceneStem } from './custom.js';
 import { humanLabel } from './labels.js';
-import { unionExtent } from './axes.js';
 
 /** What the paper finds about each integral's error, in terms of the methods' properties. */
 export const PAPER_NOTES = {
@@ -67,7 +66,7 @@ export class PaperView {
       fig.append(el('h3', 'figure-title', f.title));
       const grid = el('div', `panel-grid n${f.panels.length}`);
       // One y-range for the figure's panels.
-      const group = { extents: new Map(), key: '' };
+      const group = { extents: new Map() };
       for (const p of f.panels) {
         const panel = el('section', 'paper-panel');
         panel.dataset.scene = `${p.system}/${p.preset}`;
@@ -140,13 +139,6 @@ export class PaperView {
     const draw = () => {
       frame = 0;
       for (const p of panels) p.plots.update({ stat: 'mean', window: p.window });
-      // A figure's y-range grew: redraw its other panels on it.
-      for (const group of new Set(panels.map((p) => p.group))) {
-        const key = JSON.stringify(unionExtent([...group.extents.values()]));
-        if (key === group.key) continue;
-        group.key = key;
-        for (const p of this.panels) if (p.group === group && !panels.includes(p)) p.plots.refresh();
-      }
     };
     await retrying(
       () =>

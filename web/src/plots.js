@@ -40,7 +40,8 @@ export class Plots {
   /** `caption(scene)`: a line under each chart's title naming the scene (none without it);
    *  `label(run)`: a curve's label (the run's, for people, by default); `stem(scene)`: the
    *  exported file name's start; `group`: a `{extents: Map}` shared by plots drawn on one
-   *  y-range (its `members`, a Set of these plots, are redrawn when one changes its range);
+   *  y-range (its `members`, a Set of these plots, are redrawn when one changes its range;
+   *  `key`, the range they are drawn on);
    *  `catalog`: GET /systems, for each method's colour and marker (palette.js). */
   constructor(container, { caption, label, stem, group, catalog } = {}) {
     this.container = container;
@@ -117,6 +118,12 @@ export class Plots {
       this.#summary(chart, tables);
     }
     this.#labels();
+    // The group's y-range grew: its other members redraw on it.
+    if (!this.group) return;
+    const key = JSON.stringify(unionExtent([...this.group.extents.values()]));
+    if (key === this.group.key) return;
+    this.group.key = key;
+    for (const plots of this.group.members) if (plots !== this) plots.refresh();
   }
 
   // The y extent without the runs that diverged, shared with the group; a note names them.
@@ -152,7 +159,6 @@ export class Plots {
   #rerange() {
     for (const chart of this.charts) {
       if (!chart.ys) continue;
-      chart.clip.dataset.key = '';
       this.#range(chart, chart.ys);
     }
   }

@@ -8,7 +8,8 @@ const ANCHOR = { left: 'start', start: 'start', center: 'middle', right: 'end', 
 // Canvas baselines are of the em box: its top and bottom edges, and its centre ('central').
 const BASELINE = { top: 'text-before-edge', hanging: 'hanging', middle: 'central', alphabetic: 'auto', bottom: 'text-after-edge' };
 
-const esc = (t) => String(t).replace(/&/g, '&amp;').replace(/</g, '&lt;').replace(/>/g, '&gt;').replace(/"/g, '&quot;');
+/** Text for SVG markup: `&`, `<`, `>` and `"` escaped. */
+export const esc = (t) => String(t).replace(/&/g, '&amp;').replace(/</g, '&lt;').replace(/>/g, '&gt;').replace(/"/g, '&quot;');
 const n = (v) => String(Math.round(v * 100) / 100);
 
 // A canvas font (`600 11px system-ui, sans-serif`) as SVG attributes, which more SVG tools

@@ -74,15 +74,13 @@ export class WorkPrecisionView {
   }
 
   // Writes the view's URL (a setting that does not pass as typed, so a reload shows it
-  // again); returns its query.
+  // again).
   #url() {
     const { state } = this.read();
     const { settings, errors } = this.#settings(state);
     const shown = { ...settings, orient: this.orient.value };
     for (const { field } of errors) shown[field] = field === 'steps' ? [this.inputs.steps.value] : this.inputs[field].value;
-    const query = workPrecisionQuery(state, this.catalog, shown);
-    history.replaceState(null, '', `?${query}`);
-    return query;
+    history.replaceState(null, '', `?${workPrecisionQuery(state, this.catalog, shown)}`);
   }
 
   async load() {

@@ -1,7 +1,8 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { SweepResult, cellLines, cellState, fmt } from '../src/sweepresult.js';
-import { cellColor, decadeRange, KIND_COLORS, logError, powerOfTen, tickStep, viridis } from '../src/heatmap.js';
+import { cellColor, decadeRange, KIND_COLORS, logError, tickStep, viridis } from '../src/heatmap.js';
+import { powerOfTen } from '../src/axes.js';
 
 const start = {
   axes: [
