@@ -67,9 +67,9 @@ fn formulas(c: &mut Criterion) {
     let sys = CvtPendulum::new(&info.preset_params(p));
     let overrides: Vec<(String, f64)> = p.params.iter().map(|(n, v)| (n.to_string(), *v)).collect();
     let compiled =
-        CustomSystem::compile(&FormulaSpec::of(info), &overrides, &CustomLimits::default())
+        CustomSystem::compile(&FormulaSpec::of(info).expect("a class built-in"), &overrides, &CustomLimits::default())
             .expect("the formula form compiles");
-    let formulas = Custom::<3, 1>::new(compiled.compiled.clone());
+    let formulas = Custom::<3, 1>::new(compiled.class_compiled().expect("the class").clone());
     let (q, v) = (Vector::<3>::from_column_slice(p.q), Vector::<3>::from_column_slice(p.v));
     let start = State::with_continuous_multiplier(&sys, q, v).expect("preset is regular");
     let mut group = c.benchmark_group("formulas/cvt_pendulum");
@@ -111,7 +111,7 @@ fn figure_set_requests(as_formulas: bool) -> Vec<SceneRequest> {
             let scene = Scene::resolve(&req).expect("preset");
             let info = scene.system.built_in().expect("a built-in").info();
             SceneRequest {
-                system: SystemRequest::Formulas(FormulaSpec::of(info)),
+                system: SystemRequest::Formulas(FormulaSpec::of(info).expect("a class built-in")),
                 params: scene.named_params().iter().map(|(n, v)| (n.to_string(), *v)).collect(),
                 q: Some(scene.q.clone()),
                 v: Some(scene.v.clone()),

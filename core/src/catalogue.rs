@@ -1,8 +1,7 @@
 //! The catalogue: the registry of systems, sizes erased ([`registry`]), and scenes — what a
 //! user asks for, resolved against a system's presets and checked field by field
-//! ([`scene`]), with the parameter checks systems and methods share ([`params`]).
+//! ([`scene`]).
 
 pub mod custom;
-pub mod params;
 pub mod registry;
 pub mod scene;

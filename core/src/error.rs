@@ -101,11 +101,24 @@ pub enum InputError {
     },
     /// The initial velocity violates the constraints.
     #[error(
-        "inconsistent initial velocity: |A(q) v| = {residual:.3e} exceeds 1e-9; v must satisfy the constraints A(q) v = 0"
+        "inconsistent initial velocity: |A(q) v| = {residual:.3e} exceeds 1e-9; v must satisfy the \
+         constraints A(q) v = 0 (the nearest v that does, in the metric of M: [{}])",
+        nearest.iter().map(|x| format!("{}", Short(*x))).collect::<Vec<_>>().join(", ")
     )]
     InconsistentVelocity {
         /// The residual |A(q) v|.
         residual: f64,
+        /// The admissible velocity nearest to v in the metric of M:
+        /// `v − M⁻¹Aᵀ(A M⁻¹Aᵀ)⁻¹ A v`.
+        nearest: Vec<f64>,
+    },
+    /// A method that has no step for the system asked for.
+    #[error("{message}")]
+    NotApplicable {
+        /// Field path, e.g. `methods[1]` at the API, `id` in core.
+        field: String,
+        /// Why, in words.
+        message: String,
     },
     /// The step is zero or negative.
     #[error("step must be positive, got {}", Short(*.step))]
@@ -195,6 +208,7 @@ impl InputError {
             | Self::UnknownMethod { field, .. }
             | Self::Formula { field, .. }
             | Self::Composition { field, .. }
+            | Self::NotApplicable { field, .. }
             | Self::CustomSystem { field, .. } => field.clone(),
             Self::UnknownPreset { .. } => "preset".into(),
             Self::InconsistentVelocity { .. } => "v".into(),
@@ -213,6 +227,7 @@ impl InputError {
             | Self::NonFinite { field, .. }
             | Self::Composition { field, .. }
             | Self::UnknownMethod { field, .. } => *field = format!("{prefix}.{field}"),
+            Self::NotApplicable { field, .. } => *field = prefix.to_string(),
             _ => {}
         }
         self
@@ -242,6 +257,22 @@ pub enum StepFailure {
         /// The bound on |q|, |q̇| and |λ| that was crossed.
         limit: f64,
     },
+    /// The constraint matrix lost rank: its rows are no longer independent, and the
+    /// multiplier is no longer determined.
+    #[error(
+        "the constraint matrix A(q) lost rank: its smallest singular value is {smallest:.3e}, \
+         below 1e-8 of its {initial:.3e} at the start"
+    )]
+    RankLost {
+        /// The smallest singular value of A(q) at the state reached.
+        smallest: f64,
+        /// The smallest singular value of A(q₀).
+        initial: f64,
+    },
+    /// The method has no step for this system's class (the planner refuses such a run
+    /// before it starts; this is the step's own guard).
+    #[error("the method does not apply to this system")]
+    NotApplicable,
 }
 
 /// Why a run ended before t_end.

@@ -21,6 +21,7 @@
 pub mod catalogue;
 pub mod error;
 pub mod formula;
+pub(crate) mod linalg;
 pub mod measure;
 pub mod methods;
 pub mod model;
@@ -35,14 +36,16 @@ pub use error::{InputError, RunError, Short, StepFailure};
 pub use measure::bucket::{Bucket, Bucketer};
 pub use measure::classify::{Verdict, VerdictKind, classify};
 pub use measure::gap::{Gap, GapReason};
-pub use measure::integral::Integral;
+pub use model::integral::{Integral, MAX_INVARIANTS};
 pub use measure::properties::Properties;
 pub use measure::simulate::{Collect, Observer, Problem, RunConfig, RunOutcome};
 pub use methods::integrator::{Integrator, MethodInfo, Stepper};
 pub use methods::{
-    BaseMethod, Composed, Composition, Method, MethodMemory, MethodSpec, method_info, method_infos,
+    BaseMethod, Composed, Composition, GeneralMemory, Method, MethodMemory, MethodSpec,
+    method_info, method_infos,
 };
-pub use model::custom::{CustomLimits, FormulaSpec};
+pub use model::custom::{CustomLimits, FormulaSpec, GeneralSpec};
+pub use model::mechanical::{General, Mechanical};
 pub use model::state::State;
 pub use model::system::{BuiltIn, DriverTerms, ParamSpec, Preset, System, SystemInfo};
 pub use model::systems;

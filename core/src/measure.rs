@@ -1,13 +1,12 @@
-//! What a run measures: the first integrals ([`integral`]) and the hidden latitude
-//! ([`latitude`]), their error series downsampled into buckets ([`bucket`]) and classified
-//! ([`classify`]), the driver that runs a method and streams the series to an observer
+//! What a run measures: the integrals' error series (the integrals are the model's,
+//! `model::integral`) and the hidden latitude ([`latitude`]), downsampled into buckets
+//! ([`bucket`]) and classified ([`classify`]), the driver that runs a method and streams the series to an observer
 //! ([`simulate`]), the measured properties of a method ([`properties`]), the reference
 //! solution ([`reference`]) and work–precision ([`work_precision`]).
 
 pub mod bucket;
 pub mod classify;
 pub mod gap;
-pub mod integral;
 pub mod latitude;
 pub mod properties;
 pub mod reference;

@@ -9,17 +9,28 @@
 
 pub mod composition;
 pub mod coupled;
+pub mod general_memory;
 pub mod integrator;
 pub mod memory;
 
 pub use composition::{Composed, Composition};
-pub use integrator::{Integrator, MethodInfo, Stepper};
+pub use general_memory::GeneralMemory;
+pub use integrator::{GeneralStepper, Integrator, MethodInfo, Stepper};
 pub use memory::{Memory, Recall};
 
-use crate::catalogue::params::resolve_params;
-use crate::measure::simulate::{self, Observer, Problem, RunConfig, RunOutcome};
+use crate::model::mechanical::Mechanical;
+use crate::model::params::resolve_params;
 use crate::model::system::System;
 use crate::{InputError, State, StepFailure};
+
+/// What [`Method::visit`] hands a method to: code generic over the stepped type (a run's
+/// loop), given each method as its own type, class and general steps both.
+pub trait Visitor {
+    /// What the visit returns.
+    type Output;
+    /// Takes the method.
+    fn visit<M: Stepper + GeneralStepper>(self, method: &M) -> Self::Output;
+}
 
 impl From<BaseMethod> for Method {
     fn from(base: BaseMethod) -> Self {
@@ -111,8 +122,8 @@ macro_rules! methods {
         }
 
         impl Method {
-            /// One step, with `memory` from [`Method::memory`] (a memory of another method
-            /// is replaced by an empty one).
+            /// One step on a system of the paper's class, with `memory` from
+            /// [`Method::memory`] (a memory of another method is replaced by an empty one).
             pub fn step<S: System<N, R>, const N: usize, const R: usize>(
                 &self, sys: &S, state: &mut State<N, R>, memory: &mut MethodMemory<N, R>, h: f64,
             ) -> Result<(), StepFailure> {
@@ -126,6 +137,19 @@ macro_rules! methods {
                         *memory = self.memory();
                         self.step(sys, state, memory, h)
                     }
+                }
+            }
+            /// One step on the general class (`docs/model.md` §1), the method's general step.
+            pub fn step_general<S: Mechanical<N, R>, const N: usize, const R: usize>(
+                &self, sys: &S, state: &mut State<N, R>, memory: &mut GeneralMemory<N, R>, h: f64,
+            ) -> Result<(), StepFailure> {
+                match self.base {
+                    $(BaseMethod::$variant(m) => match self.composition {
+                        None => m.step_general(sys, state, memory, h),
+                        Some(composition) => {
+                            Composed { base: m, composition }.step_general(sys, state, memory, h)
+                        }
+                    }),*
                 }
             }
             /// `n` steps from an empty memory with one dispatch, as a run takes them but
@@ -146,16 +170,21 @@ macro_rules! methods {
                     }),*
                 }
             }
-            /// Runs the method on a problem.
-            pub fn run<S: System<N, R>, const N: usize, const R: usize>(
-                &self, problem: &Problem<'_, S, N, R>, cfg: &RunConfig, observer: &mut dyn Observer,
-            ) -> RunOutcome {
+            /// [`Method::steps`] on the general class.
+            pub fn steps_general<S: Mechanical<N, R>, const N: usize, const R: usize>(
+                &self, sys: &S, state: &mut State<N, R>, h: f64, n: u64,
+            ) -> Result<(), StepFailure> {
+                let mut memory = GeneralMemory::empty();
+                (0..n).try_for_each(|_| self.step_general(sys, state, &mut memory, h))
+            }
+            /// Hands the method, with its composition, to `visitor` as the type it steps as:
+            /// one dispatch, outside any loop the visitor runs (`measure::simulate` runs a
+            /// method so).
+            pub fn visit<V: Visitor>(&self, visitor: V) -> V::Output {
                 match self.base {
                     $(BaseMethod::$variant(m) => match self.composition {
-                        None => simulate::run(problem, &m, cfg, observer),
-                        Some(composition) => {
-                            simulate::run(problem, &Composed { base: m, composition }, cfg, observer)
-                        }
+                        None => visitor.visit(&m),
+                        Some(composition) => visitor.visit(&Composed { base: m, composition }),
                     }),*
                 }
             }
@@ -163,7 +192,15 @@ macro_rules! methods {
     };
 }
 
-methods!(dla::Dla, dla01::Dla01, leapfrog::Leapfrog, dd::Dd, dd_avf::DdAvf, rk4::Rk4);
+methods!(
+    dla::Dla,
+    dla01::Dla01,
+    leapfrog::Leapfrog,
+    dd::Dd,
+    dd_avf::DdAvf,
+    rk4::Rk4,
+    rattle::Rattle,
+);
 
 /// A configured method: one of the list with its parameters, taken alone or as a symmetric
 /// composition of its steps.

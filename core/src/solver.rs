@@ -1,9 +1,8 @@
 //! Solver kernels shared by the implicit methods: Newton's iteration on the saddle systems
-//! of the steps ([`newton`]), small fixed-size linear algebra, double-double arithmetic,
+//! of the steps ([`newton`]), double-double arithmetic,
 //! the tracking of sin ζ and cos ζ along Newton's iterates, and the passenger's kernel.
 
 pub(crate) mod angle_tracker;
 pub(crate) mod double_double;
-pub(crate) mod linalg;
 pub mod newton;
 pub(crate) mod passenger_kernel;

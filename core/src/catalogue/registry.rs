@@ -1,18 +1,23 @@
 //! The registry of systems: [`SYSTEMS`], derived from the one list in
 //! [`crate::model::systems`], feeds `GET /systems`, scene resolution and the dispatch.
 //!
-//! Systems have different fixed sizes, so each [`SystemEntry`] holds function pointers to
-//! code monomorphized for its `System<N, R>`; the [`Method`] enum dispatches once per run,
-//! outside the step loop.
+//! Systems have different fixed sizes, so each one's [`SystemCode`] holds function pointers
+//! to code monomorphized for its type: the class's steps for a system of the paper's class
+//! ([`SystemCode::class`]), the general steps for any other ([`SystemCode::general`]). A
+//! built-in given as formulas has no code of its own: it is compiled per scene and runs on
+//! the code of its sizes ([`class_code`], [`general_code`]). The [`Method`] enum dispatches
+//! once per run, outside the step loop.
 
 use crate::measure::latitude::LatitudeAxis;
 use crate::measure::properties::{self, Properties};
 use crate::measure::reference::{self, ReferenceError};
-use crate::measure::simulate::{Observer, Problem, RunConfig, RunOutcome};
-use crate::model::custom::{Compiled, Custom};
-use crate::model::system::{BuiltIn, System, SystemInfo};
+use crate::measure::simulate::{self, Observer, Problem, RunConfig, RunOutcome};
+use crate::model::custom::{Custom, GeneralCustom, Invariants, Structure};
+use crate::model::mechanical::{General, Mechanical};
+use crate::model::system::{BuiltIn, GeneralBuiltIn, System, SystemInfo};
 use crate::{InputError, Integral, Method, RunError, State, StepFailure, Vector};
-use std::sync::Arc;
+use nalgebra::DMatrix;
+use std::marker::PhantomData;
 
 /// Every system, in listing order.
 pub static SYSTEMS: &[SystemEntry] = crate::with_systems!(entries);
@@ -28,8 +33,21 @@ pub const PAPER_SCENES: [(&str, &str); 6] = [
     ("cvt_pendulum", "rotating-perturbed"),
 ];
 
+/// The literature's test problems beyond the paper's (`docs/model.md` §2), as (system,
+/// preset): the scorecard's scenes after the paper's six.
+pub const LITERATURE_SCENES: [(&str, &str); 7] = [
+    ("chaplygin_sleigh", "free"),
+    ("chaplygin_sleigh", "inclined"),
+    ("chaotic_oscillator", "n1"),
+    ("contact_oscillator", "mp"),
+    ("nonholonomic_oscillator", "default"),
+    ("heisenberg", "default"),
+    ("vertical_disk", "odelab"),
+];
+
 /// A system's parameter values and initial state, sizes erased: what its code needs of a
-/// scene.
+/// scene. q and v are in the order the code holds the coordinates (for a system given as
+/// formulas found in the paper's class, the driver last).
 #[derive(Debug, Clone, Copy)]
 pub struct Start<'a> {
     /// Parameter values, in the order of the system's `params`.
@@ -38,9 +56,9 @@ pub struct Start<'a> {
     pub q: &'a [f64],
     /// Initial velocity.
     pub v: &'a [f64],
-    /// The compiled formulas of a system given as formulas (whose parameters are compiled
-    /// into them); `None` for a built-in.
-    pub custom: Option<&'a Arc<Compiled>>,
+    /// The compilation of a system given as formulas (whose parameters are compiled into
+    /// it); `None` for a built-in compiled into nhlab.
+    pub formulas: Option<&'a Structure>,
 }
 
 /// What one run needs besides the method, sizes erased.
@@ -56,31 +74,39 @@ pub struct RunInput<'a> {
     pub integrals: &'a [Integral],
     /// The monodromy axis, when the latitude is measured.
     pub latitude: Option<LatitudeAxis>,
+    /// The system's invariants, when it has any.
+    pub invariants: Option<&'a Invariants>,
 }
 
-/// A system's code, monomorphized for its type and sizes, sizes erased: the built-ins' and
-/// the sizes a system given as formulas may have ([`CUSTOM_SIZES`]).
+/// A system's M and A at a state, as the start's checks read them (`Scene::resolve`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Constraint {
+    /// A(q), R×N.
+    pub a: DMatrix<f64>,
+    /// M, N×N.
+    pub mass: DMatrix<f64>,
+}
+
+/// A system's code, monomorphized for its type and sizes, sizes erased.
 pub struct SystemCode {
     /// Number of coordinates n.
     pub dof: usize,
     /// Number of constraints r.
     pub constraints: usize,
-    pub(crate) residual: fn(Start<'_>) -> f64,
+    /// Whether it runs the methods' general steps (`docs/model.md` §1), not the class's.
+    pub general: bool,
+    pub(crate) constraint: fn(Start<'_>) -> Constraint,
     pub(crate) latitude: fn(Start<'_>) -> Result<LatitudeAxis, InputError>,
     pub(crate) run: fn(&RunInput<'_>, &Method, &RunConfig, &mut dyn Observer) -> RunOutcome,
     pub(crate) properties: fn(Start<'_>, f64, &Method) -> Result<Properties, StepFailure>,
     pub(crate) reference: ReferenceFn,
 }
 
-/// A registered system: its description and its code.
+/// A registered system: its description, and its code where it is compiled into nhlab.
 pub struct SystemEntry {
     info: fn() -> &'static SystemInfo,
-    /// Number of coordinates n.
-    pub dof: usize,
-    /// Number of constraints r.
-    pub constraints: usize,
-    /// Its code.
-    pub code: SystemCode,
+    /// Its code; `None` for a built-in given as formulas, compiled per scene.
+    pub native: Option<SystemCode>,
 }
 
 /// The reference solve of a system: start, t_end, tolerance, stop flag.
@@ -110,7 +136,11 @@ impl std::fmt::Debug for SystemEntry {
 
 impl std::fmt::Debug for SystemCode {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("SystemCode").field("dof", &self.dof).field("r", &self.constraints).finish()
+        f.debug_struct("SystemCode")
+            .field("dof", &self.dof)
+            .field("r", &self.constraints)
+            .field("general", &self.general)
+            .finish()
     }
 }
 
@@ -119,67 +149,122 @@ fn vectors<const N: usize>(start: Start<'_>) -> (Vector<N>, Vector<N>) {
 }
 
 /// How a system's code builds the system from a [`Start`].
-pub trait FromStart<const N: usize, const R: usize>: System<N, R> {
+pub trait Build<const N: usize, const R: usize> {
+    /// The system built.
+    type System: Send + Sync;
     /// The system of this start.
-    fn from_start(start: &Start<'_>) -> Self;
+    fn build(start: &Start<'_>) -> Self::System;
 }
 
-impl<S: BuiltIn<N, R>, const N: usize, const R: usize> FromStart<N, R> for S {
-    fn from_start(start: &Start<'_>) -> Self {
+/// A built-in of the paper's class, from its parameters.
+pub struct ClassBuiltIn<S>(PhantomData<S>);
+/// A built-in of the general class, from its parameters.
+pub struct GeneralBuiltInOf<S>(PhantomData<S>);
+/// A system given as formulas found in the paper's class.
+pub struct ClassFormulas;
+/// A system given as formulas in the general class.
+pub struct GeneralFormulas;
+
+impl<S: BuiltIn<N, R>, const N: usize, const R: usize> Build<N, R> for ClassBuiltIn<S> {
+    type System = S;
+    fn build(start: &Start<'_>) -> S {
         S::new(start.params)
     }
 }
 
-impl<const N: usize, const R: usize> FromStart<N, R> for Custom<N, R> {
-    fn from_start(start: &Start<'_>) -> Self {
-        // `Scene` pairs a custom system's code with its compilation: never absent here.
-        let compiled = start.custom.expect("a system given as formulas runs with its compilation");
-        Custom::new(compiled.clone())
+impl<S: GeneralBuiltIn<N, R>, const N: usize, const R: usize> Build<N, R> for GeneralBuiltInOf<S> {
+    type System = S;
+    fn build(start: &Start<'_>) -> S {
+        S::new(start.params)
     }
 }
 
+impl<const N: usize, const R: usize> Build<N, R> for ClassFormulas {
+    type System = Custom<N, R>;
+    fn build(start: &Start<'_>) -> Custom<N, R> {
+        // `Scene` pairs the code of a system given as formulas with its compilation.
+        match start.formulas {
+            Some(Structure::Class { compiled, .. }) => Custom::new(compiled.clone()),
+            _ => unreachable!("a class system given as formulas runs with its compilation"),
+        }
+    }
+}
+
+impl<const N: usize, const R: usize> Build<N, R> for GeneralFormulas {
+    type System = GeneralCustom<N, R>;
+    fn build(start: &Start<'_>) -> GeneralCustom<N, R> {
+        match start.formulas {
+            Some(Structure::General(compiled)) => GeneralCustom::new(compiled.clone()),
+            _ => unreachable!("a general system given as formulas runs with its compilation"),
+        }
+    }
+}
+
+/// M and A at a start, as matrices.
+fn constraint_of<S: Mechanical<N, R>, const N: usize, const R: usize>(
+    sys: &S,
+    q: &Vector<N>,
+) -> Constraint {
+    let a = sys.constraint(q);
+    Constraint {
+        a: DMatrix::from_fn(R, N, |i, j| a[(i, j)]),
+        mass: DMatrix::from_fn(N, N, |i, j| sys.mass().matrix()[(i, j)]),
+    }
+}
+
+fn reference_state<const N: usize>(r: reference::Reference<N>) -> ReferenceState {
+    ReferenceState {
+        q: r.q.as_slice().to_vec(),
+        v: r.v.as_slice().to_vec(),
+        constraint_residual: r.constraint_residual,
+        evaluations: r.evaluations,
+        steps: r.steps,
+    }
+}
+
+/// The outcome of a run that could not start: its first step fails (`A M⁻¹ Aᵀ` singular at
+/// the start, which a scene's checks leave only for A's rank at the edge of their tolerance).
+fn no_start() -> RunOutcome {
+    let failure = StepFailure::Singular;
+    RunOutcome { steps: 0, error: Some(RunError::Step { step: 1, t: 0.0, failure }) }
+}
+
 impl SystemCode {
-    /// The code of `S`.
-    pub const fn of<S: FromStart<N, R>, const N: usize, const R: usize>() -> Self {
+    /// The code of a system of the paper's class: the methods' class steps.
+    pub const fn class<B: Build<N, R>, const N: usize, const R: usize>() -> Self
+    where
+        B::System: System<N, R>,
+    {
         Self {
             dof: N,
             constraints: R,
-            residual: |start| {
-                let (q, v) = vectors::<N>(start);
-                S::from_start(&start).constraint_residual(&q, &v)
+            general: false,
+            constraint: |start| {
+                let sys = B::build(&start);
+                constraint_of(&General(&sys), &vectors::<N>(start).0)
             },
             latitude: |start| {
                 let (q, v) = vectors::<N>(start);
-                LatitudeAxis::compute(&S::from_start(&start), &q, &v)
+                LatitudeAxis::compute(&B::build(&start), &q, &v)
             },
             reference: |start, t_end, tol, stop| {
                 let (q, v) = vectors::<N>(start);
-                let sys = S::from_start(&start);
-                let r = reference::reference_until(&sys, &q, &v, t_end, tol, stop)?;
-                Ok(ReferenceState {
-                    q: r.q.as_slice().to_vec(),
-                    v: r.v.as_slice().to_vec(),
-                    constraint_residual: r.constraint_residual,
-                    evaluations: r.evaluations,
-                    steps: r.steps,
-                })
+                let sys = B::build(&start);
+                let r = reference::reference_until(&General(&sys), &q, &v, t_end, tol, stop)?;
+                Ok(reference_state(r))
             },
             properties: |start, step, method| {
-                let sys = S::from_start(&start);
+                let sys = B::build(&start);
                 let (q, v) = vectors::<N>(start);
                 let start =
                     State::with_continuous_multiplier(&sys, q, v).ok_or(StepFailure::Singular)?;
                 properties::measure(&sys, method, start, step)
             },
             run: |input, method, cfg, observer| {
-                let sys = S::from_start(&input.start);
+                let sys = B::build(&input.start);
                 let (q, v) = vectors::<N>(input.start);
                 let Some(start) = State::with_continuous_multiplier(&sys, q, v) else {
-                    let failure = StepFailure::Singular;
-                    return RunOutcome {
-                        steps: 0,
-                        error: Some(RunError::Step { step: 1, t: 0.0, failure }),
-                    };
+                    return no_start();
                 };
                 let problem = Problem {
                     sys: &sys,
@@ -188,17 +273,75 @@ impl SystemCode {
                     steps: input.steps,
                     integrals: input.integrals,
                     latitude: input.latitude,
+                    invariants: input.invariants,
                 };
-                method.run(&problem, cfg, observer)
+                simulate::run_method(&problem, method, cfg, observer)
+            },
+        }
+    }
+
+    /// The code of a system of the general class: the methods' general steps.
+    pub const fn general<B: Build<N, R>, const N: usize, const R: usize>() -> Self
+    where
+        B::System: Mechanical<N, R>,
+    {
+        Self {
+            dof: N,
+            constraints: R,
+            general: true,
+            constraint: |start| constraint_of(&B::build(&start), &vectors::<N>(start).0),
+            latitude: |_| {
+                Err(InputError::LatitudeUndefined {
+                    reason: "the latitude is defined on the paper's class only (docs/model.md §5)"
+                        .into(),
+                })
+            },
+            reference: |start, t_end, tol, stop| {
+                let (q, v) = vectors::<N>(start);
+                let sys = B::build(&start);
+                Ok(reference_state(reference::reference_until(&sys, &q, &v, t_end, tol, stop)?))
+            },
+            properties: |start, step, method| {
+                let sys = B::build(&start);
+                let (q, v) = vectors::<N>(start);
+                let start = State::general_start(&sys, q, v).ok_or(StepFailure::Singular)?;
+                properties::measure_general(&sys, method, start, step)
+            },
+            run: |input, method, cfg, observer| {
+                let sys = B::build(&input.start);
+                let (q, v) = vectors::<N>(input.start);
+                let Some(start) = State::general_start(&sys, q, v) else {
+                    return no_start();
+                };
+                let problem = Problem {
+                    sys: &sys,
+                    start,
+                    step: input.step,
+                    steps: input.steps,
+                    integrals: input.integrals,
+                    latitude: None,
+                    invariants: input.invariants,
+                };
+                simulate::run_method_general(&problem, method, cfg, observer)
             },
         }
     }
 }
 
 impl SystemEntry {
-    /// The entry of `S`.
+    /// The entry of a built-in of the paper's class.
     pub const fn of<S: BuiltIn<N, R>, const N: usize, const R: usize>() -> Self {
-        Self { info: S::info, dof: N, constraints: R, code: SystemCode::of::<S, N, R>() }
+        Self { info: S::info, native: Some(SystemCode::class::<ClassBuiltIn<S>, N, R>()) }
+    }
+
+    /// The entry of a built-in of the general class.
+    pub const fn general<S: GeneralBuiltIn<N, R>, const N: usize, const R: usize>() -> Self {
+        Self { info: S::info, native: Some(SystemCode::general::<GeneralBuiltInOf<S>, N, R>()) }
+    }
+
+    /// The entry of a built-in given as formulas (`SystemInfo::form` is its general form).
+    pub const fn formulas(info: fn() -> &'static SystemInfo) -> Self {
+        Self { info, native: None }
     }
 
     /// Its description.
@@ -207,29 +350,75 @@ impl SystemEntry {
     }
 }
 
-/// The code of a system given as formulas, for each size it may have: n passengers (2 to
-/// 6) and 1 to n − 1 constraints, as `(n + 1, r)`.
-pub static CUSTOM_SIZES: &[SystemCode] = &[
-    SystemCode::of::<Custom<3, 1>, 3, 1>(),
-    SystemCode::of::<Custom<4, 1>, 4, 1>(),
-    SystemCode::of::<Custom<4, 2>, 4, 2>(),
-    SystemCode::of::<Custom<5, 1>, 5, 1>(),
-    SystemCode::of::<Custom<5, 2>, 5, 2>(),
-    SystemCode::of::<Custom<5, 3>, 5, 3>(),
-    SystemCode::of::<Custom<6, 1>, 6, 1>(),
-    SystemCode::of::<Custom<6, 2>, 6, 2>(),
-    SystemCode::of::<Custom<6, 3>, 6, 3>(),
-    SystemCode::of::<Custom<6, 4>, 6, 4>(),
-    SystemCode::of::<Custom<7, 1>, 7, 1>(),
-    SystemCode::of::<Custom<7, 2>, 7, 2>(),
-    SystemCode::of::<Custom<7, 3>, 7, 3>(),
-    SystemCode::of::<Custom<7, 4>, 7, 4>(),
-    SystemCode::of::<Custom<7, 5>, 7, 5>(),
+/// The code of a system given as formulas found in the paper's class, for each size it may
+/// have: n passengers (2 to 6) and 1 to n − 1 constraints, as `(n + 1, r)`.
+pub static CLASS_SIZES: &[SystemCode] = &[
+    SystemCode::class::<ClassFormulas, 3, 1>(),
+    SystemCode::class::<ClassFormulas, 4, 1>(),
+    SystemCode::class::<ClassFormulas, 4, 2>(),
+    SystemCode::class::<ClassFormulas, 5, 1>(),
+    SystemCode::class::<ClassFormulas, 5, 2>(),
+    SystemCode::class::<ClassFormulas, 5, 3>(),
+    SystemCode::class::<ClassFormulas, 6, 1>(),
+    SystemCode::class::<ClassFormulas, 6, 2>(),
+    SystemCode::class::<ClassFormulas, 6, 3>(),
+    SystemCode::class::<ClassFormulas, 6, 4>(),
+    SystemCode::class::<ClassFormulas, 7, 1>(),
+    SystemCode::class::<ClassFormulas, 7, 2>(),
+    SystemCode::class::<ClassFormulas, 7, 3>(),
+    SystemCode::class::<ClassFormulas, 7, 4>(),
+    SystemCode::class::<ClassFormulas, 7, 5>(),
 ];
 
-/// The code for a system given as formulas of these sizes.
-pub fn custom_code(dof: usize, constraints: usize) -> Option<&'static SystemCode> {
-    CUSTOM_SIZES.iter().find(|c| c.dof == dof && c.constraints == constraints)
+/// The code of a system given as formulas in the general class: every size up to 6
+/// coordinates, and 12 coordinates for the larger ones, padded (`GeneralCustom`).
+pub static GENERAL_SIZES: &[SystemCode] = &[
+    SystemCode::general::<GeneralFormulas, 2, 1>(),
+    SystemCode::general::<GeneralFormulas, 3, 1>(),
+    SystemCode::general::<GeneralFormulas, 3, 2>(),
+    SystemCode::general::<GeneralFormulas, 4, 1>(),
+    SystemCode::general::<GeneralFormulas, 4, 2>(),
+    SystemCode::general::<GeneralFormulas, 4, 3>(),
+    SystemCode::general::<GeneralFormulas, 5, 1>(),
+    SystemCode::general::<GeneralFormulas, 5, 2>(),
+    SystemCode::general::<GeneralFormulas, 5, 3>(),
+    SystemCode::general::<GeneralFormulas, 5, 4>(),
+    SystemCode::general::<GeneralFormulas, 6, 1>(),
+    SystemCode::general::<GeneralFormulas, 6, 2>(),
+    SystemCode::general::<GeneralFormulas, 6, 3>(),
+    SystemCode::general::<GeneralFormulas, 6, 4>(),
+    SystemCode::general::<GeneralFormulas, 6, 5>(),
+    SystemCode::general::<GeneralFormulas, 12, 1>(),
+    SystemCode::general::<GeneralFormulas, 12, 2>(),
+    SystemCode::general::<GeneralFormulas, 12, 3>(),
+    SystemCode::general::<GeneralFormulas, 12, 4>(),
+    SystemCode::general::<GeneralFormulas, 12, 5>(),
+    SystemCode::general::<GeneralFormulas, 12, 6>(),
+    SystemCode::general::<GeneralFormulas, 12, 7>(),
+    SystemCode::general::<GeneralFormulas, 12, 8>(),
+    SystemCode::general::<GeneralFormulas, 12, 9>(),
+    SystemCode::general::<GeneralFormulas, 12, 10>(),
+    SystemCode::general::<GeneralFormulas, 12, 11>(),
+];
+
+/// Most coordinates compiled as they are; a system with more runs padded to
+/// [`PADDED`](self::PADDED).
+const EXACT_MAX: usize = 6;
+/// The size larger systems are padded to.
+const PADDED: usize = crate::model::custom::MAX_COORDINATES;
+
+/// The code of a system given as formulas found in the paper's class, of `dof` coordinates
+/// (the driver last) and `constraints` rows.
+pub fn class_code(dof: usize, constraints: usize) -> Option<&'static SystemCode> {
+    CLASS_SIZES.iter().find(|c| c.dof == dof && c.constraints == constraints)
+}
+
+/// The code of a system given as formulas in the general class, of `dof` coordinates and
+/// `constraints` rows: its own size, or a padded one (`dof` ≥ 7: 12 coordinates, each added
+/// with a row of its own).
+pub fn general_code(dof: usize, constraints: usize) -> Option<&'static SystemCode> {
+    let (n, r) = if dof <= EXACT_MAX { (dof, constraints) } else { (PADDED, constraints + PADDED - dof) };
+    GENERAL_SIZES.iter().find(|c| c.dof == n && c.constraints == r)
 }
 
 /// The system with this id.
@@ -258,6 +447,21 @@ mod tests {
                         preset.id
                     );
                 }
+            }
+        }
+    }
+
+    /// Every size a system given as formulas may have has its code.
+    #[test]
+    fn every_size_has_code() {
+        for dof in 2..=PADDED {
+            for r in 1..dof {
+                assert!(general_code(dof, r).is_some(), "general ({dof}, {r})");
+            }
+        }
+        for n in 2..=crate::model::custom::MAX_PASSENGERS {
+            for r in 1..n {
+                assert!(class_code(n + 1, r).is_some(), "class ({}, {r})", n + 1);
             }
         }
     }

@@ -5,13 +5,14 @@
 //! Resolution: the preset (the system's first when none is named) fills params, q, v, step
 //! and t_end; explicit fields override it. The number of steps is `⌊t_end/h + 10⁻⁹⌋`.
 
-use super::custom::CustomSystem;
-use super::params::resolve_params;
+use super::custom::{CustomSystem, SystemSpec};
 use super::registry::{ReferenceState, RunInput, Start, SystemCode, SystemEntry, system};
 use crate::measure::latitude::LatitudeAxis;
 use crate::measure::simulate::{Observer, RunConfig, RunOutcome};
-use crate::model::custom::{CustomLimits, FormulaSpec};
-use crate::{InputError, Integral, Method};
+use crate::model::custom::{CustomLimits, FormulaSpec, GeneralSpec};
+use crate::model::params::resolve_params;
+use crate::{Bucket, Gap, InputError, Integral, Method, Short};
+use std::ops::ControlFlow;
 use std::sync::Arc;
 
 /// The system a scene asks for: a built-in by id, or one given as formulas.
@@ -19,8 +20,10 @@ use std::sync::Arc;
 pub enum SystemRequest {
     /// A built-in system's id.
     Id(String),
-    /// A system given as formulas (`docs/model.md` §7).
+    /// A system of the paper's class given in its form (`docs/model.md` §10).
     Formulas(FormulaSpec),
+    /// A system given in the general form (`docs/model.md` §10).
+    General(GeneralSpec),
 }
 
 impl From<&str> for SystemRequest {
@@ -38,9 +41,9 @@ impl Default for SystemRequest {
 /// A scene's system, resolved.
 #[derive(Debug, Clone)]
 pub enum SceneSystem {
-    /// A built-in.
+    /// A built-in compiled into nhlab.
     BuiltIn(&'static SystemEntry),
-    /// A system given as formulas, compiled.
+    /// A system given as formulas, compiled: a user's, or a built-in given as formulas.
     Custom(Arc<CustomSystem>),
 }
 
@@ -48,26 +51,33 @@ impl SceneSystem {
     /// Its code.
     pub fn code(&self) -> &'static SystemCode {
         match self {
-            Self::BuiltIn(entry) => &entry.code,
+            Self::BuiltIn(entry) => entry.native.as_ref().expect("a native built-in has code"),
             Self::Custom(c) => c.code,
         }
     }
     /// The built-in's id, or the name of a system given as formulas.
     pub fn id(&self) -> &str {
-        match self {
-            Self::BuiltIn(entry) => entry.info().id,
-            Self::Custom(c) => &c.spec.name,
+        match self.built_in() {
+            Some(entry) => entry.info().id,
+            None => self.custom().map_or("", |c| c.spec.name()),
         }
     }
     /// The built-in, if it is one.
     pub fn built_in(&self) -> Option<&'static SystemEntry> {
         match self {
             Self::BuiltIn(entry) => Some(entry),
-            Self::Custom(_) => None,
+            Self::Custom(c) => c.built_in,
         }
     }
-    /// The system given as formulas, if it is one.
+    /// The system a user gave as formulas, if it is one (not a built-in).
     pub fn custom(&self) -> Option<&CustomSystem> {
+        match self {
+            Self::Custom(c) if c.built_in.is_none() => Some(c),
+            _ => None,
+        }
+    }
+    /// Its compilation, for any system given as formulas (a built-in's too).
+    pub fn formulas(&self) -> Option<&CustomSystem> {
         match self {
             Self::BuiltIn(_) => None,
             Self::Custom(c) => Some(c),
@@ -75,9 +85,10 @@ impl SceneSystem {
     }
     /// Its parameters' names, in order.
     pub fn param_names(&self) -> Vec<&str> {
-        match self {
-            Self::BuiltIn(entry) => entry.info().params.iter().map(|p| p.name).collect(),
-            Self::Custom(c) => c.spec.parameters.iter().map(|p| p.0.as_str()).collect(),
+        match (self.built_in(), self.custom()) {
+            (Some(entry), _) => entry.info().params.iter().map(|p| p.name).collect(),
+            (None, Some(c)) => c.spec.parameters().iter().map(|p| p.0.as_str()).collect(),
+            (None, None) => Vec::new(),
         }
     }
     /// The integrals it has.
@@ -87,12 +98,35 @@ impl SceneSystem {
             Self::Custom(c) => &c.integrals,
         }
     }
+    /// The names of its invariants, in order.
+    pub fn invariant_names(&self) -> &[String] {
+        self.formulas().and_then(|c| c.invariants.as_deref()).map_or(&[], |i| i.names())
+    }
+    /// The API name of one of its integrals (an invariant's is the system's name for it).
+    pub fn integral_name(&self, integral: Integral) -> String {
+        match integral {
+            Integral::Invariant(k) => self
+                .invariant_names()
+                .get(k as usize)
+                .cloned()
+                .unwrap_or_else(|| format!("invariant{k}")),
+            _ => integral.id().to_owned(),
+        }
+    }
+    /// Whether it runs as the paper's class (the class's steps), found or built in.
+    pub fn in_paper_class(&self) -> bool {
+        !self.code().general
+    }
+    /// Its number of coordinates, as given.
+    pub fn dof(&self) -> usize {
+        self.formulas().map_or(self.code().dof, |c| c.dof)
+    }
     /// What identifies the system's equations, for caches: the id, or the whole formula
     /// form (parameters are a scene's own).
     pub fn key(&self) -> String {
-        match self {
-            Self::BuiltIn(entry) => entry.info().id.into(),
-            Self::Custom(c) => format!("{:?}", c.spec),
+        match self.custom() {
+            None => self.id().into(),
+            Some(c) => format!("{:?}", c.spec),
         }
     }
 }
@@ -116,12 +150,20 @@ pub struct SceneRequest {
     pub t_end: Option<f64>,
 }
 
-/// Systems given as formulas, compiled, by their parameter values, for one set of formulas
-/// at a time ([`Scene::resolve_cached`]).
+/// Systems given as formulas, compiled, by their parameter values, for one system at a
+/// time ([`Scene::resolve_cached`]).
 #[derive(Debug, Default)]
 pub struct CompiledSystems {
-    spec: Option<FormulaSpec>,
+    /// What the systems kept are compiled from: a spec, or a built-in's id.
+    source: Option<Source>,
     systems: std::collections::HashMap<Vec<(String, u64)>, Arc<CustomSystem>>,
+}
+
+/// What a compiled system comes from.
+#[derive(Debug, Clone, PartialEq)]
+enum Source {
+    Spec(SystemSpec),
+    BuiltIn(&'static str),
 }
 
 impl CompiledSystems {
@@ -130,21 +172,21 @@ impl CompiledSystems {
 
     fn get_or_compile(
         &mut self,
-        spec: &FormulaSpec,
-        overrides: &[(String, f64)],
-        limits: &CustomLimits,
+        source: Source,
+        parameters: &[(String, f64)],
+        compile: impl FnOnce() -> Result<CustomSystem, InputError>,
     ) -> Result<Arc<CustomSystem>, InputError> {
-        if self.spec.as_ref() != Some(spec) {
-            self.spec = Some(spec.clone());
+        if self.source.as_ref() != Some(&source) {
+            self.source = Some(source);
             self.systems.clear();
         }
         // Bits, not values: -0 and 0 may compile differently, and NaN is refused anyway.
         let key: Vec<(String, u64)> =
-            overrides.iter().map(|(n, v)| (n.clone(), v.to_bits())).collect();
+            parameters.iter().map(|(n, v)| (n.clone(), v.to_bits())).collect();
         if let Some(found) = self.systems.get(&key) {
             return Ok(found.clone());
         }
-        let custom = Arc::new(CustomSystem::compile(spec, overrides, limits)?);
+        let custom = Arc::new(compile()?);
         if self.systems.len() < Self::CAPACITY {
             self.systems.insert(key, custom.clone());
         }
@@ -169,6 +211,9 @@ pub struct Scene {
     pub step: f64,
     /// Final time.
     pub t_end: f64,
+    /// q and v as the system's code holds them (reordered or padded for some systems given
+    /// as formulas).
+    internal: (Vec<f64>, Vec<f64>),
 }
 
 fn finite(field: impl Into<String>, value: f64) -> Result<f64, InputError> {
@@ -229,7 +274,18 @@ impl Scene {
         let entry = match &req.system {
             SystemRequest::Id(id) => system(id)?,
             SystemRequest::Formulas(spec) => {
-                return Self::resolve_custom(req, spec, limits, compiled);
+                let source = Source::Spec(SystemSpec::Coupled(spec.clone()));
+                let custom = compiled.get_or_compile(source, &req.params, || {
+                    CustomSystem::compile(spec, &req.params, limits)
+                })?;
+                return Self::resolve_custom(req, custom);
+            }
+            SystemRequest::General(spec) => {
+                let source = Source::Spec(SystemSpec::General(spec.clone()));
+                let custom = compiled.get_or_compile(source, &req.params, || {
+                    CustomSystem::compile_general(spec, &req.params, limits)
+                })?;
+                return Self::resolve_custom(req, custom);
             }
         };
         let info = entry.info();
@@ -247,8 +303,19 @@ impl Scene {
         let overrides = req.params.iter().map(|(n, v)| (n.as_str(), *v, true));
         let owner = format!("system {}", info.id);
         let params = resolve_params(info.params, given.chain(overrides), "params.", &owner)?;
-        let q = vector("q", req.q.as_deref().unwrap_or(preset.q), entry.dof)?;
-        let v = vector("v", req.v.as_deref().unwrap_or(preset.v), entry.dof)?;
+        let system = match &entry.native {
+            Some(_) => SceneSystem::BuiltIn(entry),
+            None => {
+                let named: Vec<(String, f64)> =
+                    info.params.iter().map(|p| p.name.to_string()).zip(params.iter().copied()).collect();
+                SceneSystem::Custom(compiled.get_or_compile(Source::BuiltIn(info.id), &named, || {
+                    CustomSystem::built_in(entry, &params, limits)
+                })?)
+            }
+        };
+        let dof = system.dof();
+        let q = vector("q", req.q.as_deref().unwrap_or(preset.q), dof)?;
+        let v = vector("v", req.v.as_deref().unwrap_or(preset.v), dof)?;
         let step = finite("step", req.step.unwrap_or(preset.step))?;
         if step <= 0.0 {
             return Err(InputError::NonPositiveStep { step });
@@ -257,24 +324,12 @@ impl Scene {
         if t_end < step {
             return Err(InputError::TEndTooShort { t_end, step });
         }
-        let scene = Self {
-            system: SceneSystem::BuiltIn(entry),
-            preset: Some(preset.id),
-            params,
-            q,
-            v,
-            step,
-            t_end,
-        };
+        let internal = internal(&system, &q, &v);
+        let scene = Self { system, preset: Some(preset.id), params, q, v, step, t_end, internal };
         scene.consistent()
     }
 
-    fn resolve_custom(
-        req: &SceneRequest,
-        spec: &FormulaSpec,
-        limits: &CustomLimits,
-        compiled: &mut CompiledSystems,
-    ) -> Result<Self, InputError> {
+    fn resolve_custom(req: &SceneRequest, custom: Arc<CustomSystem>) -> Result<Self, InputError> {
         if req.preset.is_some() {
             return Err(InputError::CustomSystem {
                 field: "preset".into(),
@@ -283,14 +338,14 @@ impl Scene {
                     .into(),
             });
         }
-        let custom = compiled.get_or_compile(spec, &req.params, limits)?;
-        let dof = custom.code.dof;
+        let dof = custom.dof;
         let required = |field: &str, given: &Option<Vec<f64>>| {
             given.clone().ok_or_else(|| InputError::CustomSystem {
                 field: field.into(),
                 message: format!(
-                    "{field} is required for a system given as formulas: {dof} numbers, the \
-                     passenger coordinates then the driver"
+                    "{field} is required for a system given as formulas: {dof} numbers, one per \
+                     coordinate in the order given (the passengers then the driver in the \
+                     paper's form)"
                 ),
             })
         };
@@ -305,17 +360,63 @@ impl Scene {
         if t_end < step {
             return Err(InputError::TEndTooShort { t_end, step });
         }
-        let params = custom.compiled.values.clone();
+        let params = custom.spec.parameters().iter().map(|p| p.1).collect();
         let system = SceneSystem::Custom(custom);
-        Self { system, preset: None, params, q, v, step, t_end }.consistent()
+        let internal = internal(&system, &q, &v);
+        Self { system, preset: None, params, q, v, step, t_end, internal }.consistent()
     }
 
-    /// The scene, if its initial velocity satisfies the constraints.
+    /// The scene, if its start passes the checks every system's does: A(q₀) finite and of
+    /// full rank (its smallest singular value above `10⁻¹⁰ · max(1, largest)`), and the
+    /// initial velocity on the constraints (`|A(q₀) v₀| ≤ 10⁻⁹`; the message gives the nearest
+    /// velocity that is, in the metric of M).
     fn consistent(self) -> Result<Self, InputError> {
-        let residual = (self.system.code().residual)(self.start());
+        let c = (self.system.code().constraint)(self.start());
+        let field = if self.system.custom().is_some() { "system.constraints" } else { "q" };
+        for r in 0..c.a.nrows() {
+            for j in 0..c.a.ncols() {
+                let x = c.a[(r, j)];
+                if !x.is_finite() {
+                    let at = match self.system.custom() {
+                        Some(f) if j < f.order.len() => {
+                            format!("system.constraints[{r}][{}]", f.order[j])
+                        }
+                        _ => field.into(),
+                    };
+                    return Err(InputError::CustomSystem {
+                        field: at,
+                        message: format!("this entry of A is {} at the initial state", Short(x)),
+                    });
+                }
+            }
+        }
+        let sv = c.a.singular_values();
+        let (min, max) = (sv.min(), sv.max());
+        if min.is_nan() || min <= 1e-10 * max.max(1.0) {
+            return Err(InputError::CustomSystem {
+                field: field.into(),
+                message: format!(
+                    "A(q) loses rank at the initial q: its smallest singular value is {min:.3e} \
+                     (largest {max:.3e}); the constraint rows must be independent there"
+                ),
+            });
+        }
+        let v = nalgebra::DVector::from_column_slice(&self.internal.1);
+        let av = &c.a * &v;
+        let residual = av.norm();
         // A NaN residual (overflowing q or v) is inconsistent too.
         if residual.is_nan() || residual > 1e-9 {
-            return Err(InputError::InconsistentVelocity { residual });
+            let m_inv = c.mass.clone().try_inverse().unwrap_or_else(|| c.mass.clone());
+            let m_at = &m_inv * c.a.transpose();
+            let nearest = match (&c.a * &m_at).lu().solve(&av) {
+                Some(mu) => &v - &m_at * mu,
+                None => v.clone(),
+            };
+            let nearest = match self.system.formulas() {
+                Some(f) => f.to_user(nearest.as_slice()),
+                None => nearest.as_slice().to_vec(),
+            };
+            return Err(InputError::InconsistentVelocity { residual, nearest });
         }
         Ok(self)
     }
@@ -325,14 +426,20 @@ impl Scene {
         (self.t_end / self.step + 1e-9).floor() as u64
     }
 
-    /// The system's parameters and the initial state.
+    /// The system's parameters and the initial state, as its code holds them.
     pub fn start(&self) -> Start<'_> {
         Start {
             params: &self.params,
-            q: &self.q,
-            v: &self.v,
-            custom: self.system.custom().map(|c| &c.compiled),
+            q: &self.internal.0,
+            v: &self.internal.1,
+            formulas: self.system.formulas().map(|c| &c.structure),
         }
+    }
+
+    /// The exact solution at t_end, where the system has one (`SystemInfo::exact`).
+    pub fn exact(&self) -> Option<(Vec<f64>, Vec<f64>)> {
+        let exact = self.system.built_in()?.info().exact?;
+        Some(exact(&self.params, &self.q, &self.v, self.t_end))
     }
 
     /// Parameter names with their values.
@@ -364,7 +471,11 @@ impl Scene {
         tol: f64,
         stop: &dyn Fn() -> bool,
     ) -> Result<ReferenceState, crate::measure::reference::ReferenceError> {
-        (self.system.code().reference)(self.start(), self.t_end, tol, stop)
+        let mut r = (self.system.code().reference)(self.start(), self.t_end, tol, stop)?;
+        if let Some(f) = self.system.formulas() {
+            (r.q, r.v) = (f.to_user(&r.q), f.to_user(&r.v));
+        }
+        Ok(r)
     }
 
     /// Checks `integrals` against the system (all it has when `None`) and computes the
@@ -388,30 +499,40 @@ impl Scene {
     ) -> Result<PreparedScene, InputError> {
         let available = self.system.integrals();
         let asked = integrals.is_some();
+        let name_of = |i: &Integral| self.system.integral_name(*i);
         let mut integrals = match integrals {
             None => available.to_vec(),
             Some(names) => {
                 let mut out = Vec::new();
                 for name in names {
-                    let i = Integral::from_id(name).ok_or_else(|| InputError::UnknownIntegral {
-                        name: name.clone(),
-                        valid: Integral::valid_ids(),
-                    })?;
+                    let invariant = self.system.invariant_names().iter().position(|n| n == name);
+                    let i = Integral::from_id(name)
+                        .or(invariant.map(|k| Integral::Invariant(k as u8)))
+                        .ok_or_else(|| InputError::UnknownIntegral {
+                            name: name.clone(),
+                            valid: Integral::ALL
+                                .iter()
+                                .map(|i| i.id().to_owned())
+                                .chain(self.system.invariant_names().iter().cloned())
+                                .collect::<Vec<_>>()
+                                .join(", "),
+                        })?;
                     if !available.contains(&i) {
-                        let why = match &self.system {
-                            SceneSystem::Custom(_) if i == Integral::Latitude => {
+                        let why = match i {
+                            Integral::Latitude if self.system.in_paper_class() => {
                                 " (the latitude is defined for two passengers, one constraint and U = |x|²/2 + const, docs/model.md §5)"
+                            }
+                            Integral::Latitude
+                            | Integral::PassengerEnergy
+                            | Integral::DriverEnergy => {
+                                " (the passenger's and the driver's energies and the latitude are defined on the paper's class only, docs/model.md §1)"
                             }
                             _ => "",
                         };
                         return Err(InputError::IntegralUnavailable {
                             integral: name.clone(),
                             system: self.system.id().into(),
-                            available: available
-                                .iter()
-                                .map(|i| i.id())
-                                .collect::<Vec<_>>()
-                                .join(", ")
+                            available: available.iter().map(name_of).collect::<Vec<_>>().join(", ")
                                 + why,
                         });
                     }
@@ -449,16 +570,84 @@ pub struct PreparedScene {
 }
 
 impl PreparedScene {
-    /// Runs one method, streaming to `observer`.
+    /// The API name of one of its integrals.
+    pub fn integral_name(&self, integral: Integral) -> String {
+        self.scene.system.integral_name(integral)
+    }
+
+    /// Whether `method` has a step for the scene's system: every method on the paper's class,
+    /// every method but those the class alone has on the general one (field `id`).
+    pub fn check_method(&self, method: &Method) -> Result<(), InputError> {
+        match method.info().class_only {
+            Some(why) if !self.scene.system.in_paper_class() => {
+                let system = &self.scene.system;
+                let not_class = system
+                    .formulas()
+                    .and_then(|f| f.not_class.as_deref())
+                    .map_or(String::new(), |w| format!(": {w}"));
+                Err(InputError::NotApplicable {
+                    field: "id".into(),
+                    message: format!(
+                        "{} applies only to systems of the paper's class: {why}; {} is not in \
+                         it{not_class}",
+                        method.label(),
+                        system.id()
+                    ),
+                })
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Runs one method, streaming to `observer` (the final state in the user's order).
     pub fn run(&self, method: &Method, cfg: &RunConfig, observer: &mut dyn Observer) -> RunOutcome {
         let scene = &self.scene;
+        let invariants = scene.system.formulas().and_then(|c| c.invariants.as_deref());
         let input = RunInput {
             start: scene.start(),
             step: scene.step,
             steps: scene.steps(),
             integrals: &self.integrals,
             latitude: self.latitude,
+            invariants,
         };
-        (scene.system.code().run)(&input, method, cfg, observer)
+        let run = scene.system.code().run;
+        match scene.system.formulas() {
+            None => run(&input, method, cfg, observer),
+            Some(f) => run(&input, method, cfg, &mut UserOrder { observer, system: f }),
+        }
+    }
+}
+
+/// The internal q and v of a system's code from the user's.
+fn internal(system: &SceneSystem, q: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    match system.formulas() {
+        Some(f) => (f.to_internal(q), f.to_internal(v)),
+        None => (q.to_vec(), v.to_vec()),
+    }
+}
+
+/// An observer of a run of a system given as formulas: the final state back in the user's
+/// order (the code may hold it reordered or padded).
+struct UserOrder<'a> {
+    observer: &'a mut dyn Observer,
+    system: &'a CustomSystem,
+}
+
+impl Observer for UserOrder<'_> {
+    fn initial(&mut self, integral: Integral, value: f64) {
+        self.observer.initial(integral, value);
+    }
+    fn points(&mut self, integral: Integral, bucket: Bucket) {
+        self.observer.points(integral, bucket);
+    }
+    fn gap(&mut self, integral: Integral, gap: Gap) {
+        self.observer.gap(integral, gap);
+    }
+    fn finish(&mut self, q: &[f64], v: &[f64]) {
+        self.observer.finish(&self.system.to_user(q), &self.system.to_user(v));
+    }
+    fn progress(&mut self, steps_done: u64, t: f64) -> ControlFlow<()> {
+        self.observer.progress(steps_done, t)
     }
 }

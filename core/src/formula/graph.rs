@@ -348,6 +348,65 @@ impl Graph {
         }
     }
 
+    /// `root` of `src` built again in this graph, each variable `i` of `src` replaced by the
+    /// node `var(self, i)` of this one, through the constructors (so constants fold anew).
+    /// `done` remembers the nodes already built, so that calls for several roots share them.
+    /// Iterative (children first), so a deep expression cannot overflow the stack.
+    pub fn import(
+        &mut self,
+        src: &Graph,
+        root: Id,
+        var: &mut dyn FnMut(&mut Graph, u16) -> Id,
+        done: &mut HashMap<Id, Id>,
+    ) -> Id {
+        let mut stack = vec![(root, false)];
+        while let Some((n, children_done)) = stack.pop() {
+            if done.contains_key(&n) {
+                continue;
+            }
+            let node = src.node(n);
+            if !children_done {
+                stack.push((n, true));
+                stack.extend(node.children().iter().flatten().map(|&c| (c, false)));
+                continue;
+            }
+            let at = |c: Id| done[&c];
+            let built = match node {
+                Node::Const(bits) => self.num(f64::from_bits(bits)),
+                Node::Var(i) => var(self, i),
+                Node::Add(a, b) => self.add(at(a), at(b)),
+                Node::Sub(a, b) => self.sub(at(a), at(b)),
+                Node::Mul(a, b) => self.mul(at(a), at(b)),
+                Node::Div(a, b) => self.div(at(a), at(b)),
+                Node::Neg(a) => self.neg(at(a)),
+                Node::PowI(a, k) => self.powi(at(a), k),
+                Node::Pow(a, b) => self.pow(at(a), at(b)),
+                Node::Call(f, a) => self.call(f, at(a)),
+            };
+            done.insert(n, built);
+        }
+        done[&root]
+    }
+
+    /// The variables `id` depends on, as a sorted list.
+    pub fn variables(&self, id: Id) -> Vec<u16> {
+        let mut seen = vec![false; id.0 as usize + 1];
+        let mut vars = Vec::new();
+        let mut stack = vec![id];
+        while let Some(n) = stack.pop() {
+            if std::mem::replace(&mut seen[n.0 as usize], true) {
+                continue;
+            }
+            let node = self.node(n);
+            if let Node::Var(v) = node {
+                vars.push(v);
+            }
+            stack.extend(node.children().into_iter().flatten());
+        }
+        vars.sort_unstable();
+        vars
+    }
+
     /// Whether `id` depends on variable `var`.
     pub fn depends_on(&self, id: Id, var: u16) -> bool {
         let mut seen = vec![false; id.0 as usize + 1];

@@ -1,9 +1,13 @@
 //! Measured properties of a method on a system (the scorecard), computed, never declared:
-//! reversibility and preservation of the fibration (`docs/model.md` §1, the paper's condition (i)
-//! of "Mechanism for near conservation of integrals").
+//! reversibility, symmetry and preservation of the fibration (`docs/model.md` §1 and §9, the
+//! paper's condition (i) of "Mechanism for near conservation of integrals").
 //!
 //! - *Reversible*: one step, flip the velocity (λ unchanged), one step, flip back returns
 //!   the start to `1e-11 · max(1, |state|)`, from the start and from three later points.
+//! - *Symmetric*: one step h, then one step −h, returns the start to the same tolerance,
+//!   from the same points (`Φ_{−h} ∘ Φ_h = id`, what a composition needs).
+//! - On the general class ([`measure_general`]) the fibration is not defined; the constraint
+//!   check (3. below) is made as on the class.
 //! - *Preserves the fibration*, three numerical checks from the scene's start, each over
 //!   [`STEPS`] steps:
 //!   1. the driver is blind to the passenger: a second start with the same `(ζ, ζ̇)` and a
@@ -18,6 +22,8 @@
 //!      (this catches RK4, which imposes neither and drifts off); a composed method at every
 //!      sub-step, as its base method does.
 
+use crate::methods::GeneralMemory;
+use crate::model::mechanical::Mechanical;
 use crate::model::system::System;
 use crate::{Method, MethodMemory, State, StepFailure, Vector};
 
@@ -37,7 +43,13 @@ pub struct Properties {
     pub reversible: bool,
     /// Largest round-trip defect.
     pub reversibility_defect: f64,
-    /// All three fibration checks pass.
+    /// A step back with −h returns the start.
+    pub symmetric: bool,
+    /// Largest `Φ_{−h} ∘ Φ_h` defect.
+    pub symmetry_defect: f64,
+    /// Whether the fibration is defined for the system (the paper's class), and so measured.
+    pub fibration_measured: bool,
+    /// All three fibration checks pass (false where it is not measured).
     pub preserves_fibration: bool,
     /// Largest driver difference caused by a passenger change (check 1).
     pub driver_coupling: f64,
@@ -68,18 +80,36 @@ fn run<S: System<N, R>, const N: usize, const R: usize>(
     Ok((st, memory))
 }
 
-fn round_trip<S: System<N, R>, const N: usize, const R: usize>(
-    sys: &S,
-    m: &Method,
-    start: Point<N, R>,
+/// The largest defects of the velocity-flip round trip and of the step back with −h, from the
+/// start and three later points, for a method's step `step` (class or general) with memories
+/// of type `M`.
+fn round_trips<M: Copy, const N: usize, const R: usize>(
+    step: &dyn Fn(&mut State<N, R>, &mut M, f64) -> Result<(), StepFailure>,
+    mut point: (State<N, R>, M),
     h: f64,
-) -> Result<f64, StepFailure> {
-    let (mut st, mut memory) = run(sys, m, start, h, 1)?;
-    let start = start.0;
-    st.v = -st.v;
-    m.step(sys, &mut st, &mut memory, h)?;
-    st.v = -st.v;
-    Ok((st.q - start.q).amax().max((st.v - start.v).amax()) / scale(&start))
+) -> Result<(f64, f64), StepFailure> {
+    let (mut reversibility, mut symmetry): (f64, f64) = (0.0, 0.0);
+    let defect = |a: &State<N, R>, b: &State<N, R>| {
+        (a.q - b.q).amax().max((a.v - b.v).amax()) / scale(b)
+    };
+    for _ in 0..4 {
+        let (start, memory) = point;
+        let (mut st, mut mem) = (start, memory);
+        step(&mut st, &mut mem, h)?;
+        let after = (st, mem);
+        st.v = -st.v;
+        step(&mut st, &mut mem, h)?;
+        st.v = -st.v;
+        reversibility = reversibility.max(defect(&st, &start));
+        let (mut st, mut mem) = after;
+        step(&mut st, &mut mem, -h)?;
+        symmetry = symmetry.max(defect(&st, &start));
+        point = (start, memory);
+        for _ in 0..17 {
+            step(&mut point.0, &mut point.1, h)?;
+        }
+    }
+    Ok((reversibility, symmetry))
 }
 
 /// A start on the constraint manifold with the passenger moved to `x + dx` and its reduced
@@ -105,12 +135,8 @@ pub fn measure<S: System<N, R>, const N: usize, const R: usize>(
     h: f64,
 ) -> Result<Properties, StepFailure> {
     let fresh = |st: State<N, R>| (st, m.memory());
-    let mut reversibility_defect: f64 = 0.0;
-    let mut point = fresh(start);
-    for _ in 0..4 {
-        reversibility_defect = reversibility_defect.max(round_trip(sys, m, point, h)?);
-        point = run(sys, m, point, h, 17)?;
-    }
+    let step = |st: &mut State<N, R>, mem: &mut MethodMemory<N, R>, h| m.step(sys, st, mem, h);
+    let (reversibility_defect, symmetry_defect) = round_trips(&step, fresh(start), h)?;
 
     // 1. Driver blind to the passenger.
     let mut dx = Vector::<N>::from_fn(|i, _| 0.3 - 0.2 * i as f64);
@@ -163,11 +189,51 @@ pub fn measure<S: System<N, R>, const N: usize, const R: usize>(
     Ok(Properties {
         reversible: reversibility_defect <= REVERSIBLE_TOL,
         reversibility_defect,
+        symmetric: symmetry_defect <= REVERSIBLE_TOL,
+        symmetry_defect,
+        fibration_measured: true,
         preserves_fibration: driver_coupling <= COUPLING_TOL
             && fiber_coupling <= COUPLING_TOL
             && constraint_defect <= COUPLING_TOL,
         driver_coupling,
         fiber_coupling,
+        constraint_defect,
+    })
+}
+
+/// Measures reversibility, symmetry and the discrete constraint (check 3) of `m`'s general
+/// step on `sys` from `start` with step `h`; the fibration is not defined there.
+pub fn measure_general<S: Mechanical<N, R>, const N: usize, const R: usize>(
+    sys: &S,
+    m: &Method,
+    start: State<N, R>,
+    h: f64,
+) -> Result<Properties, StepFailure> {
+    let step = |st: &mut State<N, R>, mem: &mut GeneralMemory<N, R>, h| m.step_general(sys, st, mem, h);
+    let (reversibility_defect, symmetry_defect) =
+        round_trips(&step, (start, GeneralMemory::empty()), h)?;
+    let (mut constraint_defect, mut st, mut memory): (f64, _, _) =
+        (0.0, start, GeneralMemory::empty());
+    let base = Method { composition: None, ..*m };
+    let fractions = m.composition.map_or(&[1.0][..], |c| c.coefficients());
+    for _ in 0..MANIFOLD_STEPS {
+        for &gamma in fractions {
+            let prev = st;
+            base.step_general(sys, &mut st, &mut memory, gamma * h)?;
+            let end = sys.constraint_residual(&st.q, &st.v);
+            let mid = (sys.constraint(&(0.5 * (prev.q + st.q))) * (prev.v + st.v) * 0.5).norm();
+            constraint_defect = constraint_defect.max(end.min(mid) / scale(&st));
+        }
+    }
+    Ok(Properties {
+        reversible: reversibility_defect <= REVERSIBLE_TOL,
+        reversibility_defect,
+        symmetric: symmetry_defect <= REVERSIBLE_TOL,
+        symmetry_defect,
+        fibration_measured: false,
+        preserves_fibration: false,
+        driver_coupling: f64::NAN,
+        fiber_coupling: f64::NAN,
         constraint_defect,
     })
 }

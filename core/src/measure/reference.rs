@@ -5,8 +5,10 @@
 //! tested against the exact knife-edge solution and by tolerance halving. It drifts off the
 //! constraint like any non-geometric method, so its constraint residual is reported with it.
 //!
-//! Where ζ is an angle ([`System::zeta_is_angle`]) the solve restarts every [`SEGMENT`] time
-//! units with ζ brought back near 0 by whole turns (counted, and added back at the end). A
+//! Any [`Mechanical`] system (a class system through [`General`](crate::model::mechanical::General),
+//! whose acceleration is the class's own). Where a coordinate is an angle
+//! ([`Mechanical::angle`]: the class's ζ where it is one) the solve restarts every [`SEGMENT`]
+//! time units with it brought back near 0 by whole turns (counted, and added back at the end). A
 //! rotating driver otherwise reaches ζ ≈ 7000 on the paper's rotating CVT: each step then
 //! rounds ζ to 10⁻¹², and a relative tolerance on ζ lets 10⁻⁹ per step through; together
 //! they held the reference at ~10⁻⁷ at t = 3000, where this one agrees with tighter solves to
@@ -20,7 +22,7 @@
 //! [`reference_until`], looked at in `solout` every [`STOP_EVERY`] accepted steps.
 
 use crate::Vector;
-use crate::model::system::System;
+use crate::model::mechanical::Mechanical;
 use nalgebra::DVector;
 use ode_solvers::dop_shared::OutputType;
 use ode_solvers::dop853::Dop853;
@@ -95,7 +97,7 @@ struct Ode<'a, S, const N: usize, const R: usize> {
     stop: &'a dyn Fn() -> bool,
 }
 
-impl<S: System<N, R>, const N: usize, const R: usize> ode_solvers::System<f64, DVector<f64>>
+impl<S: Mechanical<N, R>, const N: usize, const R: usize> ode_solvers::System<f64, DVector<f64>>
     for Ode<'_, S, N, R>
 {
     fn system(&self, _t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
@@ -128,7 +130,7 @@ impl<S: System<N, R>, const N: usize, const R: usize> ode_solvers::System<f64, D
 }
 
 /// Solves from `(q, v)` at t = 0 to `t_end` with relative and absolute tolerance `tol`.
-pub fn reference<S: System<N, R>, const N: usize, const R: usize>(
+pub fn reference<S: Mechanical<N, R>, const N: usize, const R: usize>(
     sys: &S,
     q: &Vector<N>,
     v: &Vector<N>,
@@ -140,7 +142,7 @@ pub fn reference<S: System<N, R>, const N: usize, const R: usize>(
 
 /// [`reference`], stopped with [`ReferenceError::Cancelled`] when `stop()` turns true; it is
 /// looked at every [`STOP_EVERY`] accepted steps.
-pub fn reference_until<S: System<N, R>, const N: usize, const R: usize>(
+pub fn reference_until<S: Mechanical<N, R>, const N: usize, const R: usize>(
     sys: &S,
     q: &Vector<N>,
     v: &Vector<N>,
@@ -149,10 +151,11 @@ pub fn reference_until<S: System<N, R>, const N: usize, const R: usize>(
     stop: &dyn Fn() -> bool,
 ) -> Result<Reference<N>, ReferenceError> {
     let mut y = DVector::from_iterator(2 * N, q.iter().chain(v.iter()).copied());
+    let angle = sys.angle();
     let track = RefCell::new(Track::default());
     let (mut t, mut turns, mut evaluations, mut steps, mut stored) = (0.0, 0.0, 0, 0, 0);
     while t < t_end {
-        let t1 = if sys.zeta_is_angle() { (t + SEGMENT).min(t_end) } else { t_end };
+        let t1 = if angle.is_some() { (t + SEGMENT).min(t_end) } else { t_end };
         // Dop853 picks the first step of a segment; a solver that continues one takes the
         // last step size.
         let (mut x, mut h) = (t, 0.0);
@@ -204,14 +207,16 @@ pub fn reference_until<S: System<N, R>, const N: usize, const R: usize>(
             }
             (x, h) = (xs[xs.len() - 1], xs[xs.len() - 1] - xs[xs.len() - 2]);
         }
-        if sys.zeta_is_angle() {
-            let k = (y[N - 1] / TAU).round();
-            y[N - 1] -= k * TAU;
+        if let Some(i) = angle {
+            let k = (y[i] / TAU).round();
+            y[i] -= k * TAU;
             turns += k;
         }
         t = t1;
     }
-    y[N - 1] += turns * TAU;
+    if let Some(i) = angle {
+        y[i] += turns * TAU;
+    }
     let (qe, ve) = (Vector::<N>::from_fn(|i, _| y[i]), Vector::<N>::from_fn(|i, _| y[N + i]));
     Ok(Reference {
         q: qe,

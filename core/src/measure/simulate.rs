@@ -8,10 +8,20 @@
 //! number ends the run with a [`RunError`] naming the step and time; the buckets completed
 //! by then have already been handed over.
 
+mod general;
+mod invariant_series;
+mod rank;
+
+pub use general::{run_general, run_method_general};
+
+use self::invariant_series::InvariantSeries;
+use self::rank::Rank;
 use crate::measure::bucket::Lanes;
 use crate::measure::latitude::{LatitudeAxis, LatitudeTracker};
-use crate::methods::integrator::Stepper;
+use crate::methods::integrator::{GeneralStepper, Stepper};
 use crate::methods::memory::{Memory, Recall, driver_potential_and_constraint};
+use crate::methods::{Method, Visitor};
+use crate::model::custom::Invariants;
 use crate::model::system::System;
 use crate::{Bucket, Bucketer, Gap, GapReason, Integral, RunError, State, StepFailure};
 use std::ops::ControlFlow;
@@ -96,6 +106,8 @@ pub struct Problem<'a, S, const N: usize, const R: usize> {
     pub integrals: &'a [Integral],
     /// The monodromy axis, when the latitude is wanted.
     pub latitude: Option<LatitudeAxis>,
+    /// The system's invariants, when any is wanted.
+    pub invariants: Option<&'a Invariants>,
 }
 
 /// A state beyond this size has lost every digit that matters: the run has diverged.
@@ -122,14 +134,51 @@ fn values<S: System<N, R>, M: Recall<N, R>, const N: usize, const R: usize>(
     [e + h, e, h, c]
 }
 
+/// The lane of a step integral (the latitude and the invariants have their own).
 #[inline]
 fn index_of(integral: Integral) -> usize {
     match integral {
         Integral::Energy => 0,
         Integral::PassengerEnergy => 1,
         Integral::DriverEnergy => 2,
-        Integral::Constraint | Integral::Latitude => 3,
+        Integral::Constraint | Integral::Latitude | Integral::Invariant(_) => 3,
     }
+}
+
+/// Why a state ends its run, if it does: not finite, or beyond [`DIVERGED`]. One test
+/// catches NaN, infinity and blow-up.
+#[inline]
+pub(crate) fn failure_of<const N: usize, const R: usize>(st: &State<N, R>) -> Option<StepFailure> {
+    let size = st.q.norm_squared() + st.v.norm_squared() + st.lambda.norm_squared();
+    if size.is_nan() || size > DIVERGED * DIVERGED {
+        return Some(if size.is_nan() || !st.is_finite() {
+            StepFailure::NonFinite
+        } else {
+            StepFailure::Diverged { limit: DIVERGED }
+        });
+    }
+    None
+}
+
+/// Runs a configured method on a class system: one dispatch to its own type, outside the loop.
+pub fn run_method<S: System<N, R>, const N: usize, const R: usize>(
+    problem: &Problem<'_, S, N, R>,
+    method: &Method,
+    cfg: &RunConfig,
+    observer: &mut dyn Observer,
+) -> RunOutcome {
+    struct Run<'p, 'o, S, const N: usize, const R: usize> {
+        problem: &'p Problem<'p, S, N, R>,
+        cfg: &'p RunConfig,
+        observer: &'o mut dyn Observer,
+    }
+    impl<S: System<N, R>, const N: usize, const R: usize> Visitor for Run<'_, '_, S, N, R> {
+        type Output = RunOutcome;
+        fn visit<M: Stepper + GeneralStepper>(self, method: &M) -> RunOutcome {
+            run(self.problem, method, self.cfg, self.observer)
+        }
+    }
+    method.visit(Run { problem, cfg, observer })
 }
 
 /// The latitude's last value and whether the crossings since had none ([`Gap`]).
@@ -185,6 +234,11 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
     let energies = problem.integrals.iter().any(|&i| index_of(i) < 3);
     let constraint = problem.integrals.contains(&Integral::Constraint);
     let v0 = values(sys, &st, &memory, energies, constraint);
+    // Where A's rank may be lost (a system given as formulas), it is watched step by step;
+    // the built-ins' A has full rank everywhere (`System::rank_is_constant`).
+    let watch_rank = !sys.rank_is_constant();
+    let mut a_before = sys.constraint(st.q[N - 1]);
+    let rank = Rank::new(&a_before);
     // The four step integrals share every sample time: one set of lanes buckets them all
     // (lanes not asked for carry zeros), and the series asked for read their lane.
     let mut initial = v0;
@@ -193,7 +247,7 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
     let series: Vec<(Integral, usize)> = problem
         .integrals
         .iter()
-        .filter(|&&i| i != Integral::Latitude)
+        .filter(|&&i| i != Integral::Latitude && !matches!(i, Integral::Invariant(_)))
         .map(|&i| (i, index_of(i)))
         .collect();
     for &(integral, lane) in &series {
@@ -207,6 +261,7 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
             let tracker = LatitudeTracker::new(axis, &problem.start.q, &problem.start.v);
             (tracker, Bucketer::new(planned, cfg.points), Trail::default())
         });
+    let mut invariants = InvariantSeries::new(problem, &problem.start.q, &problem.start.v, cfg, observer);
     let every = cfg.progress_every.max(1);
     // A countdown rather than `k % every`: no division per step.
     let mut next_progress = every;
@@ -219,18 +274,19 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
         if let Err(failure) = method.step(sys, &mut st, &mut memory, h) {
             return failed(failure);
         }
-        // One test catches NaN, infinity and blow-up.
-        let size = st.q.norm_squared() + st.v.norm_squared() + st.lambda.norm_squared();
-        if size.is_nan() || size > DIVERGED * DIVERGED {
-            return failed(if size.is_nan() || !st.is_finite() {
-                StepFailure::NonFinite
-            } else {
-                StepFailure::Diverged { limit: DIVERGED }
-            });
+        if let Some(failure) = failure_of(&st) {
+            return failed(failure);
         }
         turns += take_turns(&mut st, &mut memory);
         let t = k as f64 * h;
         let now = values(sys, &st, &memory, energies, constraint);
+        if watch_rank {
+            let a = driver_potential_and_constraint(&memory, sys, &st).1;
+            if let Err(failure) = rank.check(&a_before, &a) {
+                return failed(failure);
+            }
+            a_before = a;
+        }
         // A potential can overflow where the state does not (a quartic U at |x| ~ 1e77).
         if !(now[0] + now[3]).is_finite() {
             return failed(StepFailure::NonFinite);
@@ -239,6 +295,11 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
             for &(integral, lane) in &series {
                 observer.points(integral, b[lane]);
             }
+        }
+        if let Some(series) = invariants.as_mut()
+            && let Err(failure) = series.push(t, &st.q_with_turns(turns), &st.v, observer)
+        {
+            return failed(failure);
         }
         if let Some((tracker, buckets, trail)) = latitude.as_mut()
             && let Some((tc, e)) = tracker.observe(sys, t, &st.q_with_turns(turns), &st.v)
@@ -258,6 +319,9 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
         for &(integral, lane) in &series {
             observer.points(integral, b[lane]);
         }
+    }
+    if let Some(series) = invariants.as_mut() {
+        series.finish(observer);
     }
     if let Some((tracker, buckets, trail)) = latitude.as_mut() {
         if let Some(b) = buckets.finish() {

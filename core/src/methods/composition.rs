@@ -8,7 +8,9 @@
 //! so. The method's memory is carried across the sub-steps (each is keyed by what it depends
 //! on, so a sub-step reads only what holds at its start), and so is the multiplier λ.
 
-use crate::methods::integrator::{Integrator, Stepper};
+use crate::methods::general_memory::GeneralMemory;
+use crate::methods::integrator::{GeneralStepper, Integrator, Stepper};
+use crate::model::mechanical::Mechanical;
 use crate::model::system::System;
 use crate::{State, StepFailure};
 
@@ -189,6 +191,22 @@ impl<M: Integrator> Composed<M> {
     ) -> Result<(), StepFailure> {
         for &gamma in gammas {
             self.base.step(sys, state, memory, gamma * h)?;
+        }
+        Ok(())
+    }
+}
+
+impl<M: Integrator> GeneralStepper for Composed<M> {
+    #[inline]
+    fn step_general<S: Mechanical<N, R>, const N: usize, const R: usize>(
+        &self,
+        sys: &S,
+        state: &mut State<N, R>,
+        memory: &mut GeneralMemory<N, R>,
+        h: f64,
+    ) -> Result<(), StepFailure> {
+        for &gamma in self.composition.coefficients() {
+            self.base.step_general(sys, state, memory, gamma * h)?;
         }
         Ok(())
     }

@@ -17,6 +17,7 @@
 
 pub(crate) mod closed_form;
 pub(crate) mod driver_history;
+mod general;
 mod gonzalez;
 mod memory;
 pub(crate) mod reduced;
@@ -58,6 +59,7 @@ static INFO: MethodInfo = MethodInfo {
     reference: "Gonzalez, J. Nonlinear Sci. 6 (1996); Betsch, CMAME 195 (2006); Modin & Verdier §2",
     implicit: true,
     composed_order_limit: Some(4),
+    class_only: None,
 };
 
 impl Integrator for Dd {

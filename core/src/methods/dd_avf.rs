@@ -20,7 +20,9 @@
 use super::dd::step::discrete_derivative_step;
 use super::dd::{DdMemory, closed_form};
 use crate::solver::angle_tracker::AngleTracker;
-use crate::methods::integrator::{Integrator, MethodInfo, Stepper};
+use crate::methods::general_memory::GeneralMemory;
+use crate::methods::integrator::{GeneralStepper, Integrator, MethodInfo, Stepper};
+use crate::model::mechanical::Mechanical;
 use crate::solver::newton::NewtonConfig;
 use crate::model::system::{DriverTerms, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector};
@@ -50,6 +52,11 @@ static INFO: MethodInfo = MethodInfo {
     reference: "Quispel & McLaren, J. Phys. A 41 (2008); Modin & Verdier, open problem 3",
     implicit: true,
     composed_order_limit: Some(4),
+    class_only: Some(
+        "its average-vector-field gradient is split into the driver's exact difference \
+         quotient and the passenger's quadrature, which needs V = U(x) + V_d(ζ) \
+         (docs/model.md §3)",
+    ),
 };
 
 /// Gauss–Legendre nodes and weights on [0, 1].
@@ -160,5 +167,19 @@ impl Stepper for DdAvf {
             (grad, jac * (0.5 * h))
         };
         discrete_derivative_step(sys, st, mem, h, &self.newton, true, gradient)
+    }
+}
+
+/// DD-AVF has no step on the general class (`MethodInfo::class_only` says why; runs are
+/// refused before they start).
+impl GeneralStepper for DdAvf {
+    fn step_general<S: Mechanical<N, R>, const N: usize, const R: usize>(
+        &self,
+        _sys: &S,
+        _state: &mut State<N, R>,
+        _memory: &mut GeneralMemory<N, R>,
+        _h: f64,
+    ) -> Result<(), StepFailure> {
+        Err(StepFailure::NotApplicable)
     }
 }

@@ -9,6 +9,8 @@
 //! affine, the passenger's update is one linear saddle solve. Same equations, same result to
 //! round-off, without the N×N Newton iterations.
 
+mod general;
+
 use crate::solver::angle_tracker::AngleTracker;
 use crate::methods::integrator::{Integrator, MethodInfo, Stepper};
 use crate::methods::memory::EndOfStep;
@@ -16,7 +18,7 @@ use crate::methods::coupled::coupled_fast_path;
 use crate::solver::newton::{Linearization, NewtonConfig, solve};
 use crate::model::system::{ParamSpec, System};
 use crate::{InputError, Matrix, State, StepFailure, Vector};
-use crate::solver::linalg;
+use crate::linalg;
 
 /// DLA^α.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -52,6 +54,7 @@ static INFO: MethodInfo = MethodInfo {
     reference: "Cortés & Martínez, Nonlinearity 14 (2001); Modin & Verdier §2",
     implicit: true,
     composed_order_limit: None,
+    class_only: None,
 };
 
 impl Integrator for Dla {

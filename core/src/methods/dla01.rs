@@ -8,6 +8,8 @@
 //! follows from one R×R solve — the step becomes explicit, with the same result as Newton's
 //! to round-off.
 
+mod general;
+
 use crate::solver::angle_tracker::AngleTracker;
 use crate::methods::integrator::{Integrator, MethodInfo, Stepper};
 use crate::methods::memory::EndOfStep;
@@ -15,7 +17,7 @@ use crate::methods::coupled::coupled_fast_path;
 use crate::solver::newton::{Linearization, NewtonConfig, solve};
 use crate::model::system::{System, constraint_force};
 use crate::{InputError, Matrix, State, StepFailure};
-use crate::solver::linalg;
+use crate::linalg;
 
 /// DLA^{0,1}.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -42,6 +44,7 @@ static INFO: MethodInfo = MethodInfo {
     reference: "McLachlan & Perlmutter, J. Nonlinear Sci. 16 (2006); Modin & Verdier §2",
     implicit: true,
     composed_order_limit: None,
+    class_only: None,
 };
 
 impl Integrator for Dla01 {

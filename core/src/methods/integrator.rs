@@ -1,7 +1,9 @@
 //! The [`Integrator`] trait: one step `(q₀, q̇₀, λ₀) ↦ (q₁, q̇₁, λ₁)` of a method of
 //! `docs/model.md` §3, with the method's own [`Memory`] beside the state.
 
+use super::general_memory::GeneralMemory;
 use super::memory::Memory;
+use crate::model::mechanical::Mechanical;
 use crate::model::system::{ParamSpec, System};
 use crate::{InputError, State, StepFailure};
 
@@ -24,6 +26,9 @@ pub struct MethodInfo {
     /// `docs/compositions.md`): LF carries λ and the DD family's q̇ leaves the constraint
     /// manifold between steps, so their compositions stop at 4 (DD's q̇ itself at 2).
     pub composed_order_limit: Option<u32>,
+    /// Why the method has no step for the general class (`docs/model.md` §3), if it has none:
+    /// it then runs only on systems of the paper's class.
+    pub class_only: Option<&'static str>,
 }
 
 /// What a run steps: a method of the list ([`Integrator`]) or one composed of its steps
@@ -43,9 +48,24 @@ pub trait Stepper: Copy + Send + Sync + 'static {
     ) -> Result<(), StepFailure>;
 }
 
+/// A method's step on the general class (`docs/model.md` §1: any M, V(q), A(q)), with its
+/// [`GeneralMemory`]. A system of the paper's class runs the method's class step
+/// ([`Stepper`]); this one runs on every other, and on a class system seen through
+/// [`General`](crate::model::mechanical::General) (its general path).
+pub trait GeneralStepper: Copy + Send + Sync + 'static {
+    /// Advances `state` by one step `h`.
+    fn step_general<S: Mechanical<N, R>, const N: usize, const R: usize>(
+        &self,
+        sys: &S,
+        state: &mut State<N, R>,
+        memory: &mut GeneralMemory<N, R>,
+        h: f64,
+    ) -> Result<(), StepFailure>;
+}
+
 /// A one-step nonholonomic integrator of the list: a small config struct with its
 /// description, on top of its [`Stepper`] step.
-pub trait Integrator: Stepper {
+pub trait Integrator: Stepper + GeneralStepper {
     /// Its description.
     fn info() -> &'static MethodInfo;
     /// Builds it from parameter values in the order of `info().params`, already range-checked.

@@ -3,7 +3,9 @@
 //! Explicit up to an R×R linear solve for the new multiplier; `λ₀` is carried from the
 //! previous step (`docs/model.md` §3, corrections 2 and 6).
 
-use crate::solver::linalg;
+mod general;
+
+use crate::linalg;
 use crate::methods::integrator::{Integrator, MethodInfo, Stepper};
 use crate::methods::memory::EndOfStep;
 use crate::model::system::{System, constraint_force};
@@ -21,6 +23,7 @@ static INFO: MethodInfo = MethodInfo {
     reference: "McLachlan & Perlmutter, J. Nonlinear Sci. 16 (2006); Modin & Verdier §2",
     implicit: false,
     composed_order_limit: Some(4),
+    class_only: None,
 };
 
 impl Integrator for Leapfrog {

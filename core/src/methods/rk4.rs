@@ -4,6 +4,8 @@
 //! Fourth order, explicit, neither reversible nor constraint-preserving: it drifts off the
 //! constraint manifold, which the `constraint` series shows.
 
+mod general;
+
 use crate::methods::integrator::{Integrator, MethodInfo, Stepper};
 use crate::methods::memory::{AccelerationAtEnd, EndOfStep, Memory, Recall};
 use crate::{Matrix, Vector};
@@ -48,6 +50,7 @@ static INFO: MethodInfo = MethodInfo {
     reference: "Kutta (1901); Hairer, Nørsett & Wanner, Solving ODEs I, §II.1",
     implicit: false,
     composed_order_limit: None,
+    class_only: None,
 };
 
 impl Integrator for Rk4 {

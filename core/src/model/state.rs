@@ -1,5 +1,6 @@
 //! [`State`]: what a one-step method carries from step to step.
 
+use crate::model::mechanical::Mechanical;
 use crate::{Vector, model::system::System};
 
 /// Position, velocity and multiplier; every method carries `λ` (leap-frog needs it, the
@@ -31,6 +32,19 @@ impl<const N: usize, const R: usize> State<N, R> {
         q: Vector<N>,
         v: Vector<N>,
     ) -> Option<Self> {
+        let lambda = sys.continuous_multiplier(&q, &v)?;
+        Some(Self {
+            q,
+            v,
+            lambda,
+            q_compensation: Vector::zeros(),
+            v_compensation: Vector::zeros(),
+        })
+    }
+
+    /// A state of a general system ([`Mechanical`]) whose multiplier is the continuous one;
+    /// `None` when `A M⁻¹ Aᵀ` is singular.
+    pub fn general_start<S: Mechanical<N, R>>(sys: &S, q: Vector<N>, v: Vector<N>) -> Option<Self> {
         let lambda = sys.continuous_multiplier(&q, &v)?;
         Some(Self {
             q,

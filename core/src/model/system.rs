@@ -1,11 +1,15 @@
-//! The [`System`] trait: a nonholonomically coupled system of `docs/model.md` §1.
+//! The [`System`] trait: a nonholonomically coupled system of `docs/model.md` §1, the paper's
+//! class within nhlab's general class ([`Mechanical`]); and what describes a built-in system
+//! ([`SystemInfo`]).
 //!
 //! Configuration `q = (x, ζ)` with the driver `ζ` last, unit masses, potential
 //! `V(q) = U(x) + V_d(ζ)` and constraints `A(ζ) q̇ = 0` whose last column is zero. A system
 //! gives its pieces with exact derivatives (Newton needs them); the whole potential, its
 //! gradient and Hessian, the energies and the continuous multiplier are derived here once.
 
-use crate::{Integral, Matrix, Vector};
+use crate::model::custom::GeneralSpec;
+use crate::model::mechanical::Mechanical;
+use crate::{InputError, Integral, Matrix, Vector};
 
 /// One tunable parameter of a system or a method.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -66,7 +70,7 @@ pub struct Preset {
 }
 
 /// What a system is, for listings and validation.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct SystemInfo {
     /// Id, as in the API.
     pub id: &'static str,
@@ -80,8 +84,27 @@ pub struct SystemInfo {
     pub integrals: &'static [Integral],
     /// Presets; the first is the default.
     pub presets: &'static [Preset],
-    /// The system written as formulas (`docs/model.md` §7), its parameters those above.
-    pub formulas: FormulaForm,
+    /// The system written as formulas (`docs/model.md` §10), its parameters those above.
+    pub form: Form,
+    /// The exact solution, where one is known: work–precision measures against it instead
+    /// of a numerical reference.
+    pub exact: Option<Exact>,
+}
+
+/// The exact solution of a system from `(q₀, q̇₀)` at time t, for parameter values (in the
+/// order of `SystemInfo::params`): `(q(t), q̇(t))`.
+pub type Exact = fn(params: &[f64], q0: &[f64], v0: &[f64], t: f64) -> (Vec<f64>, Vec<f64>);
+
+/// How a built-in system is written as formulas.
+#[derive(Debug, Clone, Copy)]
+pub enum Form {
+    /// A system of the paper's class, in the class's own form (its general form follows:
+    /// `GeneralSpec::of_coupled`).
+    Coupled(FormulaForm),
+    /// A system in the general form, for parameter values (in the order of
+    /// `SystemInfo::params`): a built-in given as formulas is compiled from it, and a
+    /// parameter may shape it (the chaotic oscillator's n).
+    General(fn(&[f64]) -> Result<GeneralSpec, InputError>),
 }
 
 /// A built-in system written as formulas, as a user would give it: the same numbers to
@@ -159,7 +182,7 @@ impl<const N: usize, const R: usize> DriverTerms<N, R> {
     pub fn continuous_multiplier(&self, gradient: &Vector<N>, v: &Vector<N>) -> Option<Vector<R>> {
         let (a, a_dot) = (&self.constraint, self.constraint_d * v[N - 1]);
         let rhs = a * gradient - a_dot * v;
-        crate::solver::linalg::solve(&(a * a.transpose()), &rhs)
+        crate::linalg::solve(&(a * a.transpose()), &rhs)
     }
     /// `∇²V(q)`, with these terms taken at q's ζ.
     #[inline]
@@ -188,6 +211,16 @@ pub fn constraint_force<const N: usize, const R: usize>(
 /// values. (A system given as formulas is a [`System`] too, built from its compiled formulas:
 /// `model::custom`.)
 pub trait BuiltIn<const N: usize, const R: usize>: System<N, R> {
+    /// Its description.
+    fn info() -> &'static SystemInfo;
+    /// Builds it from parameter values given in the order of `info().params`, already
+    /// checked against their ranges.
+    fn new(params: &[f64]) -> Self;
+}
+
+/// A system of the general class compiled into nhlab: its description, and its
+/// construction from parameter values.
+pub trait GeneralBuiltIn<const N: usize, const R: usize>: Mechanical<N, R> + Sized {
     /// Its description.
     fn info() -> &'static SystemInfo;
     /// Builds it from parameter values given in the order of `info().params`, already
@@ -244,6 +277,12 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     }
     /// Whether `V_d` is 2π-periodic, so that a rotating driver returns to its section.
     fn driver_is_periodic(&self) -> bool {
+        false
+    }
+    /// Whether `A_x(ζ)` has full rank for every ζ (and every parameter value allowed): then
+    /// a run need not watch it. True for every built-in (`tests/it/derivatives.rs` samples
+    /// it); a system given as formulas is watched.
+    fn rank_is_constant(&self) -> bool {
         false
     }
 

@@ -5,7 +5,7 @@
 //! solved by the Schur complement `S = C B⁻¹ G`, an N×N and an R×R factorization, all on the
 //! stack, instead of one (N+R)×(N+R) matrix that const generics cannot size.
 
-use crate::solver::linalg;
+use crate::linalg;
 use crate::{Matrix, StepFailure, Vector};
 
 /// Newton's stopping rule and iteration budget.

@@ -6,6 +6,7 @@
 
 use crate::common::{self, disk_exact, knife_exact};
 use nhlab_core::measure::properties;
+use nhlab_core::model::mechanical::General;
 use nhlab_core::measure::reference::reference;
 use nhlab_core::systems::{Cvt, KnifeEdge, RollingDisk};
 use nhlab_core::{
@@ -24,7 +25,7 @@ const FLOOR: f64 = 2e-12;
 fn composed() -> Vec<Method> {
     let symmetric: Vec<Method> = Method::all().into_iter().filter(|m| m.base.symmetric()).collect();
     let ids: Vec<&str> = symmetric.iter().map(|m| m.info().id).collect();
-    assert_eq!(ids, ["dla", "dla01", "leapfrog", "dd", "dd_avf"]);
+    assert_eq!(ids, ["dla", "dla01", "leapfrog", "dd", "dd_avf", "rattle"]);
     symmetric.into_iter().flat_map(|m| Composition::ALL.map(|c| m.composed(c).unwrap())).collect()
 }
 
@@ -170,7 +171,7 @@ fn compositions_reach_their_order_on_the_rolling_disk() {
 #[test]
 fn compositions_reach_their_order_on_the_cvt() {
     let (sys, st, _) = common::preset_start::<Cvt, 3, 1>(0);
-    let r = reference(&sys, &st.q, &st.v, T_END, 1e-15).unwrap();
+    let r = reference(&General(&sys), &st.q, &st.v, T_END, 1e-15).unwrap();
     check("cvt", &sys, (st.q, st.v), T_END, (r.q, r.v));
 }
 

@@ -1,5 +1,6 @@
 //! Every system's hand-written derivatives against central finite differences, its kernel
-//! against its constraint, its presets against the constraints, the periodicity in ζ that
+//! against its constraint, its presets against the constraints, the full rank of A that
+//! `rank_is_constant` declares, the periodicity in ζ that
 //! `zeta_is_angle` declares, the quadratic U and V_d that `quadratic_passenger` and
 //! `quadratic_driver` declare, the absent U that `free_passenger` declares, and its driver
 //! terms from sin/cos against the plain functions.
@@ -34,6 +35,16 @@ fn check<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
                 assert!((fd_col - hess.column(i)).amax() < TOL, "{id}: Hessian column {i}");
             }
             let z = q[N - 1];
+            if sys.rank_is_constant() {
+                // Declared of full rank everywhere: sampled over two turns.
+                for k in 0..200 {
+                    let a = sys.constraint(-TAU + k as f64 * 0.0628);
+                    let smallest = nalgebra::DMatrix::from_fn(R, N, |i, j| a[(i, j)])
+                        .singular_values()
+                        .min();
+                    assert!(smallest > 1e-3, "{id}: A loses rank near ζ = {}", -TAU + k as f64 * 0.0628);
+                }
+            }
             let fd_a = (sys.constraint(z + H) - sys.constraint(z - H)) / (2.0 * H);
             assert!((fd_a - sys.constraint_d(z)).amax() < TOL, "{id}: dA/dζ at {z}");
             // The driver's terms the implicit steps take from a tracked sin/cos are the same

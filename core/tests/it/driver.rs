@@ -69,6 +69,7 @@ fn problem(sys: &KnifeEdge, steps: u64) -> Problem<'_, KnifeEdge, 3, 1> {
         steps,
         integrals: &[Integral::Energy, Integral::DriverEnergy],
         latitude: None,
+        invariants: None,
     }
 }
 
@@ -202,7 +203,7 @@ fn the_final_state_counts_the_turns_taken_off() {
     )
     .unwrap();
     let problem =
-        Problem { sys: &sys, start, step: 0.1, steps: 2000, integrals: &[], latitude: None };
+        Problem { sys: &sys, start, step: 0.1, steps: 2000, integrals: &[], latitude: None, invariants: None };
     let dd = Dd::default();
     let mut end = Final::default();
     assert_eq!(run(&problem, &dd, &RunConfig::default(), &mut end).error, None);

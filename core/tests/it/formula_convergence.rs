@@ -5,6 +5,7 @@
 //! round-off, as it does on every system of the class.
 
 use crate::common;
+use nhlab_core::model::mechanical::General;
 use nhlab_core::measure::reference::reference_until;
 use nhlab_core::model::custom::Custom;
 use nhlab_core::{
@@ -25,8 +26,9 @@ fn spec() -> FormulaSpec {
 
 fn system() -> (Custom<4, 1>, Vector<4>, Vector<4>) {
     let c = CustomSystem::compile(&spec(), &[], &CustomLimits::default()).unwrap();
-    assert!(!c.compiled.quadratic_passenger && c.compiled.angle);
-    let sys = Custom::<4, 1>::new(c.compiled.clone());
+    let compiled = c.class_compiled().unwrap();
+    assert!(!compiled.quadratic_passenger && compiled.angle);
+    let sys = Custom::<4, 1>::new(compiled.clone());
     // A consistent start: ẋ + sin(z) ẏ + cos(z)/2 ẇ = 0 at z = 0.3.
     let z: f64 = 0.3;
     let (vy, vw) = (0.4, -0.6);
@@ -38,7 +40,7 @@ fn system() -> (Custom<4, 1>, Vector<4>, Vector<4>) {
 fn every_method_converges_at_its_order_on_a_system_given_as_formulas() {
     let (sys, q0, v0) = system();
     let t_end = 2.0;
-    let exact = reference_until(&sys, &q0, &v0, t_end, 1e-13, &|| false).unwrap();
+    let exact = reference_until(&General(&sys), &q0, &v0, t_end, 1e-13, &|| false).unwrap();
     // Every method, at the order it declares (DLA^0.4: 1).
     for m in Method::all() {
         let order = m.order() as f64;

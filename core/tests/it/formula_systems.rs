@@ -20,13 +20,13 @@ fn same_steps<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
         let (sys, start, h) = preset_start::<S, N, R>(index);
         let overrides: Vec<(String, f64)> =
             preset.params.iter().map(|(n, v)| (n.to_string(), *v)).collect();
-        let spec = FormulaSpec::of(info);
+        let spec = FormulaSpec::of(info).expect("a class built-in");
         for native in [true, false] {
             let limits = CustomLimits { native, ..CustomLimits::default() };
             let compiled = CustomSystem::compile(&spec, &overrides, &limits)
                 .unwrap_or_else(|e| panic!("{}: {e}", info.id));
-            assert_eq!(compiled.compiled.driver.is_native(), native);
-            let formulas = Custom::<N, R>::new(compiled.compiled.clone());
+            assert_eq!(compiled.class_compiled().unwrap().driver.is_native(), native);
+            let formulas = Custom::<N, R>::new(compiled.class_compiled().unwrap().clone());
             for m in Method::all() {
                 let name = case::<S, N, R>(index, &format!("{} (native: {native})", m.label()));
                 let (mut st, mut memory) = (start, m.memory());
@@ -84,7 +84,7 @@ fn built_ins_as_formulas_get_the_built_ins_verdicts_on_the_paper_scenes() {
         let resolved = Scene::resolve(&built_in).unwrap();
         let entry = SYSTEMS.iter().find(|s| s.info().id == system).unwrap();
         let as_formulas = SceneRequest {
-            system: SystemRequest::Formulas(FormulaSpec::of(entry.info())),
+            system: SystemRequest::Formulas(FormulaSpec::of(entry.info()).expect("a class built-in")),
             params: resolved.named_params().into_iter().map(|(n, v)| (n.to_string(), v)).collect(),
             q: Some(resolved.q.clone()),
             v: Some(resolved.v.clone()),

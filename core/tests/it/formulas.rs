@@ -243,7 +243,7 @@ fn the_largest_system_the_limits_allow_compiles() {
             .collect(),
     };
     let c = CustomSystem::compile(&spec, &[], &CustomLimits::default()).unwrap();
-    assert!(!c.compiled.quadratic_passenger);
+    assert!(!c.class_compiled().unwrap().quadratic_passenger);
     c.check_start(&[0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.0]).unwrap();
 }
 

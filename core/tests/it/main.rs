@@ -20,6 +20,7 @@ mod fast_path;
 mod formula_convergence;
 mod formula_systems;
 mod formulas;
+mod general;
 mod inputs;
 mod latitude;
 mod newton_stopping;

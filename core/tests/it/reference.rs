@@ -4,6 +4,7 @@
 
 use nhlab_core::BuiltIn;
 use nhlab_core::Vector;
+use nhlab_core::model::mechanical::General;
 use nhlab_core::measure::reference::{TOL, reference};
 use nhlab_core::systems::{CvtPendulum, KnifeEdge, RollingDisk};
 use std::f64::consts::FRAC_PI_2;
@@ -12,8 +13,7 @@ use std::f64::consts::FRAC_PI_2;
 fn matches_the_exact_knife_edge_solution() {
     let sys = KnifeEdge::new(&[0.0]);
     let t = 100.0;
-    let r = reference(
-        &sys,
+    let r = reference(&General(&sys),
         &Vector::<3>::new(0.0, 0.0, FRAC_PI_2),
         &Vector::<3>::new(0.0, 0.0, 1.0),
         t,
@@ -31,8 +31,7 @@ fn matches_the_exact_knife_edge_solution() {
 
 #[test]
 fn matches_the_exact_rolling_disk_solution() {
-    let r = reference(
-        &RollingDisk,
+    let r = reference(&General(&RollingDisk),
         &Vector::<4>::zeros(),
         &Vector::<4>::new(-1.0, 0.0, 1.0, 1.0),
         50.0,
@@ -48,8 +47,8 @@ fn matches_the_exact_rolling_disk_solution() {
 fn tolerance_halving_on_the_rotating_cvt() {
     let sys = CvtPendulum::new(&[0.5]);
     let (q, v) = (Vector::<3>::new(1.0, 1.0, 0.0), Vector::<3>::new(0.0, 0.0, 2.828_427_12));
-    let a = reference(&sys, &q, &v, 300.0, 1e-11).unwrap();
-    let b = reference(&sys, &q, &v, 300.0, 1e-13).unwrap();
+    let a = reference(&General(&sys), &q, &v, 300.0, 1e-11).unwrap();
+    let b = reference(&General(&sys), &q, &v, 300.0, 1e-13).unwrap();
     let d = (a.q - b.q).amax().max((a.v - b.v).amax());
     assert!(d < 1e-7 && d > 0.0, "tolerance 1e-11 vs 1e-13 differ by {d:e}");
     assert!(b.evaluations > a.evaluations);
@@ -63,8 +62,8 @@ fn tolerance_halving_on_the_rotating_cvt() {
 fn tolerance_halving_on_the_rotating_cvt_to_the_paper_time() {
     let sys = CvtPendulum::new(&[0.5]);
     let (q, v) = (Vector::<3>::new(1.0, 1.0, 0.0), Vector::<3>::new(0.0, 0.0, 2.828_427_12));
-    let a = reference(&sys, &q, &v, 3000.0, TOL).unwrap();
-    let b = reference(&sys, &q, &v, 3000.0, TOL / 3.0).unwrap();
+    let a = reference(&General(&sys), &q, &v, 3000.0, TOL).unwrap();
+    let b = reference(&General(&sys), &q, &v, 3000.0, TOL / 3.0).unwrap();
     let d = (a.q - b.q).amax().max((a.v - b.v).amax());
     assert!(d < 3e-9, "tolerance {TOL:e} vs {:e} differ by {d:e}", TOL / 3.0);
     assert!(a.q[2] > 7000.0, "ζ(3000) = {}: whole turns added back", a.q[2]);

@@ -3,6 +3,7 @@
 
 use nhlab_core::BuiltIn;
 use nhlab_core::Vector;
+use nhlab_core::model::mechanical::General;
 use nhlab_core::measure::reference::{
     CHUNK, ReferenceError, STOP_EVERY, TOL, reference, reference_until,
 };
@@ -22,7 +23,7 @@ fn a_stop_that_turns_true_at_the_kth_look_cancels_the_solve() {
             calls.set(calls.get() + 1);
             calls.get() >= k
         };
-        let r = reference_until(&Cvt, &q, &v, 1000.0, TOL, &stop);
+        let r = reference_until(&General(&Cvt), &q, &v, 1000.0, TOL, &stop);
         assert_eq!(r, Err(ReferenceError::Cancelled));
         assert_eq!(calls.get(), k, "the solve goes on after the stop");
     }
@@ -34,7 +35,7 @@ fn a_stop_that_turns_true_at_the_kth_look_cancels_the_solve() {
         calls.set(calls.get() + 1);
         calls.get() >= 2
     };
-    assert_eq!(reference_until(&sys, &q, &v, 3000.0, TOL, &stop), Err(ReferenceError::Cancelled));
+    assert_eq!(reference_until(&General(&sys), &q, &v, 3000.0, TOL, &stop), Err(ReferenceError::Cancelled));
     assert_eq!(calls.get(), 2);
 }
 
@@ -46,15 +47,15 @@ fn a_stop_that_stays_false_changes_nothing() {
         calls.set(calls.get() + 1);
         false
     };
-    let a = reference_until(&Cvt, &q, &v, 300.0, TOL, &stop).unwrap();
-    assert_eq!(a, reference(&Cvt, &q, &v, 300.0, TOL).unwrap());
+    let a = reference_until(&General(&Cvt), &q, &v, 300.0, TOL, &stop).unwrap();
+    assert_eq!(a, reference(&General(&Cvt), &q, &v, 300.0, TOL).unwrap());
     assert_eq!(calls.get(), a.steps / STOP_EVERY);
 }
 
 #[test]
 fn the_states_kept_do_not_grow_with_the_steps() {
     let (q, v) = cvt_start();
-    let r = reference(&Cvt, &q, &v, 2000.0, TOL).unwrap();
+    let r = reference(&General(&Cvt), &q, &v, 2000.0, TOL).unwrap();
     assert!(r.steps > 20 * CHUNK, "{} steps", r.steps);
     assert_eq!(r.stored, CHUNK as usize + 1, "states kept by one solver");
 }

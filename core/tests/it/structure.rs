@@ -3,6 +3,7 @@
 
 use crate::common::preset_start;
 use nhlab_core::BuiltIn;
+use nhlab_core::measure::simulate::run_method;
 use nhlab_core::{
     BaseMethod, Bucket, Integral, Method, MethodMemory, MethodSpec, Observer, Problem, RunConfig,
     State,
@@ -89,9 +90,17 @@ fn dd_energy_error<S: BuiltIn<N, R>, const N: usize, const R: usize>(
     m: &Method,
 ) -> (f64, f64) {
     let problem =
-        Problem { sys, start, step: h, steps, integrals: &[Integral::Energy], latitude: None };
+        Problem {
+        sys,
+        start,
+        step: h,
+        steps,
+        integrals: &[Integral::Energy],
+        latitude: None,
+        invariants: None,
+    };
     let mut watch = EnergyWatch::default();
-    let out = m.run(&problem, &RunConfig { points: 100, ..RunConfig::default() }, &mut watch);
+    let out = run_method(&problem, m, &RunConfig { points: 100, ..RunConfig::default() }, &mut watch);
     assert_eq!(out.error, None);
     (watch.worst / watch.initial.abs().max(watch.kinetic_end), watch.zeta_end)
 }

@@ -41,7 +41,7 @@ use crate::solver::double_double::{Dekker, DoubleDouble, Fused, Products, Sum2};
 use crate::solver::passenger_kernel::{self, kernel};
 use crate::model::system::System;
 use crate::{State, StepFailure, Vector};
-use crate::solver::linalg;
+use crate::linalg;
 
 /// Whether the closed form and the exact end apply: V quadratic (then the discrete gradient
 /// is `∇V(q̄)` and both residuals are affine) on a system whose passenger kernel

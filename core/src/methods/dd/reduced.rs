@@ -43,7 +43,7 @@ use crate::solver::newton::{NewtonConfig, solve_one};
 use crate::solver::passenger_kernel::{self, kernel_and_derivative};
 use crate::model::system::System;
 use crate::{State, StepFailure, Vector};
-use crate::solver::linalg;
+use crate::linalg;
 
 /// Whether DD takes this solve on a system: no passenger potential, two constraints whose
 /// passenger kernel [`passenger_kernel`] covers, and V_d not quadratic (where V is quadratic

@@ -27,7 +27,7 @@ impl<F, const N: usize, const R: usize> DiscreteGradient<N, R> for F where
 /// with respect to `q̇₁`; if it evaluates the driver at ζ₁ through the tracker, the terms at
 /// the step's end follow from its last iterate by a tiny rotation. `diagonal_gradient_jacobian`
 /// says whether that derivative can be diagonal (then Newton's matrix is checked for the
-/// shape that [`linalg::inverse_maybe_bordered`](crate::solver::linalg) inverts cheaply). The
+/// shape that [`linalg::inverse_maybe_bordered`](crate::linalg) inverts cheaply). The
 /// general `(q̇₁, λ)` solve, shared by `dd` (Gonzalez) and `dd_avf` (average vector field); DD's
 /// faster solves are [`closed_form`](super::closed_form) (DD-AVF's too) and
 /// [`reduced`](super::reduced).

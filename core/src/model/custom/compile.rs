@@ -39,6 +39,26 @@ pub struct GeneralPassenger {
     pub hessian: Function,
 }
 
+/// A system of the class as graphs, before differentiation (see [`Compiled::from_graphs`]).
+pub(crate) struct ClassGraphs {
+    /// Passenger coordinates.
+    pub n: usize,
+    /// Constraints.
+    pub r: usize,
+    /// The parameters' values.
+    pub values: Vec<f64>,
+    /// The passenger's graph (variables: x₁ … xₙ).
+    pub passenger: Graph,
+    /// U.
+    pub u: Id,
+    /// The driver's graph (variable 0: ζ).
+    pub driver: Graph,
+    /// V_d.
+    pub vd: Id,
+    /// A's passenger columns, row by row.
+    pub a: Vec<Id>,
+}
+
 /// A system given as formulas, ready to run; see the module's doc.
 #[derive(Debug)]
 pub struct Compiled {
@@ -79,7 +99,7 @@ fn bad(field: impl Into<String>, message: impl Into<String>) -> InputError {
 }
 
 /// Whether `name` can name a coordinate or parameter.
-fn is_identifier(name: &str) -> bool {
+pub(crate) fn is_identifier(name: &str) -> bool {
     let mut chars = name.chars();
     chars.next().is_some_and(|c| c.is_alphabetic() || c == '_')
         && chars.all(|c| c.is_alphanumeric() || c == '_')
@@ -137,23 +157,7 @@ impl Compiled {
         limits: &CustomLimits,
     ) -> Result<Self, InputError> {
         let (n, r) = check_shape(spec, limits)?;
-        let mut values: Vec<f64> = spec.parameters.iter().map(|p| p.1).collect();
-        for (name, value) in overrides {
-            let field = format!("params.{name}");
-            let Some(i) = spec.parameters.iter().position(|(p, _)| p == name) else {
-                let valid: Vec<&str> = spec.parameters.iter().map(|p| p.0.as_str()).collect();
-                return Err(InputError::UnknownParam {
-                    field,
-                    name: name.clone(),
-                    owner: "the system".into(),
-                    valid: if valid.is_empty() { "none".into() } else { valid.join(", ") },
-                });
-            };
-            if !value.is_finite() {
-                return Err(InputError::NonFinite { field, value: *value });
-            }
-            values[i] = *value;
-        }
+        let values = parameter_values(&spec.parameters, overrides)?;
         let lim = &limits.formula;
         let formula = |g: &mut Graph, field: String, text: &str, scope: &Scope<'_>| {
             parse(g, text, scope, lim).map_err(|error| InputError::Formula { field, error })
@@ -175,28 +179,6 @@ impl Compiled {
             &spec.passenger_potential,
             &passenger_scope,
         )?;
-        let mut by_var: Vec<Derivative> = (0..n).map(|i| Derivative::new(i as u16)).collect();
-        // Derivatives grow the graph: its size is checked as it grows, not only at the end.
-        let too_large = || InputError::Formula {
-            field: "system".into(),
-            error: crate::formula::FormulaError::TooLarge { limit: lim.max_nodes },
-        };
-        let mut gradient: Vec<Id> = Vec::with_capacity(n);
-        for d in &mut by_var {
-            gradient.push(d.of(&mut pg, u));
-            if pg.len() > lim.max_nodes {
-                return Err(too_large());
-            }
-        }
-        let mut hessian = Vec::new();
-        for (i, &gi) in gradient.iter().enumerate() {
-            for d in &mut by_var[i..] {
-                hessian.push(d.of(&mut pg, gi));
-                if pg.len() > lim.max_nodes {
-                    return Err(too_large());
-                }
-            }
-        }
         // The driver: V_d, its derivatives, A and dA/dζ, one graph so that they share work.
         let mut dg = Graph::new();
         let vd = formula(
@@ -215,6 +197,39 @@ impl Compiled {
         for (i, row) in spec.constraints.iter().enumerate() {
             for (j, text) in row.iter().enumerate() {
                 a.push(formula(&mut dg, format!("system.constraints[{i}][{j}]"), text, &a_scope)?);
+            }
+        }
+        Self::from_graphs(ClassGraphs { n, r, values, passenger: pg, u, driver: dg, vd, a }, limits)
+    }
+
+    /// Differentiates and compiles a system of the class given as graphs: U in `passenger`
+    /// (variables: the passenger coordinates), V_d and the passenger columns of A (row by row)
+    /// in `driver` (variable 0: ζ), the parameters' values already in place. What
+    /// [`Compiled::new`] parses, or what a system given in the general form is found to be
+    /// (`model::custom::detect`).
+    pub(crate) fn from_graphs(graphs: ClassGraphs, limits: &CustomLimits) -> Result<Self, InputError> {
+        let ClassGraphs { n, r, values, passenger: mut pg, u, driver: mut dg, vd, a } = graphs;
+        let lim = &limits.formula;
+        let too_large = || InputError::Formula {
+            field: "system".into(),
+            error: crate::formula::FormulaError::TooLarge { limit: lim.max_nodes },
+        };
+        let mut by_var: Vec<Derivative> = (0..n).map(|i| Derivative::new(i as u16)).collect();
+        // Derivatives grow the graph: its size is checked as it grows, not only at the end.
+        let mut gradient: Vec<Id> = Vec::with_capacity(n);
+        for d in &mut by_var {
+            gradient.push(d.of(&mut pg, u));
+            if pg.len() > lim.max_nodes {
+                return Err(too_large());
+            }
+        }
+        let mut hessian = Vec::new();
+        for (i, &gi) in gradient.iter().enumerate() {
+            for d in &mut by_var[i..] {
+                hessian.push(d.of(&mut pg, gi));
+                if pg.len() > lim.max_nodes {
+                    return Err(too_large());
+                }
             }
         }
         let mut d = Derivative::new(0);
@@ -287,6 +302,32 @@ impl Compiled {
             angle,
         })
     }
+}
+
+/// The parameters' values: their defaults overridden by a request's `params` (field
+/// `params.NAME`), each finite.
+pub(crate) fn parameter_values(
+    parameters: &[(String, f64)],
+    overrides: &[(String, f64)],
+) -> Result<Vec<f64>, InputError> {
+    let mut values: Vec<f64> = parameters.iter().map(|p| p.1).collect();
+    for (name, value) in overrides {
+        let field = format!("params.{name}");
+        let Some(i) = parameters.iter().position(|(p, _)| p == name) else {
+            let valid: Vec<&str> = parameters.iter().map(|p| p.0.as_str()).collect();
+            return Err(InputError::UnknownParam {
+                field,
+                name: name.clone(),
+                owner: "the system".into(),
+                valid: if valid.is_empty() { "none".into() } else { valid.join(", ") },
+            });
+        };
+        if !value.is_finite() {
+            return Err(InputError::NonFinite { field, value: *value });
+        }
+        values[i] = *value;
+    }
+    Ok(values)
 }
 
 /// Sizes and names: n passengers (1 to 6), r constraints (1 to n − 1) of n entries each,

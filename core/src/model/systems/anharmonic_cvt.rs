@@ -6,7 +6,7 @@
 
 use super::CvtPendulum;
 use super::cvt_pendulum::{EPSILON, V_OSC, V_ROT, paper};
-use crate::model::system::{BuiltIn, FormulaForm, DriverTerms, ParamSpec, System, SystemInfo};
+use crate::model::system::{BuiltIn, Form, FormulaForm, DriverTerms, ParamSpec, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 
 /// The CVT with a pendulum driver perturbed by `ε` and a passenger potential stiffened by `κ`.
@@ -45,13 +45,15 @@ static INFO: SystemInfo = SystemInfo {
         paper("rotating", "Rotating driver, ε = 0", 0.0, V_ROT),
         paper("oscillating-perturbed", "Oscillating driver, ε = 0.5", 0.5, V_OSC),
         paper("rotating-perturbed", "Rotating driver, ε = 0.5", 0.5, V_ROT),
-    ],    formulas: FormulaForm {
+    ],
+    form: Form::Coupled(FormulaForm {
         passenger: &["x1", "x2"],
         driver: "zeta",
         passenger_potential: "(x1^2 + x2^2)/2 + kappa*(x1^2 + x2^2)^2/4",
         driver_potential: "1 - cos(zeta) - epsilon*sin(2*zeta)/2",
         constraints: &[&["1", "sin(zeta)"]],
-    },
+    }),
+    exact: None,
 };
 
 impl AnharmonicCvt {
@@ -72,6 +74,9 @@ impl BuiltIn<3, 1> for AnharmonicCvt {
 }
 
 impl System<3, 1> for AnharmonicCvt {
+    fn rank_is_constant(&self) -> bool {
+        true
+    }
     fn zeta_is_angle(&self) -> bool {
         true
     }

@@ -4,7 +4,7 @@
 //! `q = (x₁, x₂, ζ)`, `U = ½|x|²`, `V_d = ½ζ²`, constraint `ẋ₁ + ζ ẋ₂ = 0`. The driver is a
 //! harmonic oscillator of period 2π, which makes the latitude's monodromy easy to check.
 
-use crate::model::system::{BuiltIn, FormulaForm, Preset, System, SystemInfo};
+use crate::model::system::{BuiltIn, Form, FormulaForm, Preset, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 
 /// The CVT with a harmonic driver (no parameters).
@@ -31,13 +31,15 @@ static INFO: SystemInfo = SystemInfo {
         v: &[0.0, 0.5, 1.0],
         step: 0.1,
         t_end: 1000.0,
-    }],    formulas: FormulaForm {
+    }],
+    form: Form::Coupled(FormulaForm {
         passenger: &["x1", "x2"],
         driver: "zeta",
         passenger_potential: "(x1^2 + x2^2)/2",
         driver_potential: "zeta^2/2",
         constraints: &[&["1", "zeta"]],
-    },
+    }),
+    exact: None,
 };
 
 impl BuiltIn<3, 1> for Cvt {
@@ -50,6 +52,9 @@ impl BuiltIn<3, 1> for Cvt {
 }
 
 impl System<3, 1> for Cvt {
+    fn rank_is_constant(&self) -> bool {
+        true
+    }
     fn quadratic_passenger(&self) -> bool {
         true
     }

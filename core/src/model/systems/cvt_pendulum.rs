@@ -4,7 +4,7 @@
 //! the printed potential lacks the `1 −`), constraint `ẋ₁ + sin ζ ẋ₂ = 0`. ε ≠ 0 breaks the
 //! driver's reversibility; the driver oscillates or rotates depending on its energy.
 
-use crate::model::system::{BuiltIn, FormulaForm, DriverTerms, ParamSpec, Preset, System, SystemInfo};
+use crate::model::system::{BuiltIn, Form, FormulaForm, DriverTerms, ParamSpec, Preset, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 
 /// The CVT with a pendulum driver perturbed by `ε`.
@@ -60,13 +60,15 @@ static INFO: SystemInfo = SystemInfo {
         paper("rotating", "Paper: rotating driver, ε = 0", 0.0, V_ROT),
         paper("oscillating-perturbed", "Paper: oscillating driver, ε = 0.5", 0.5, V_OSC),
         paper("rotating-perturbed", "Paper: rotating driver, ε = 0.5", 0.5, V_ROT),
-    ],    formulas: FormulaForm {
+    ],
+    form: Form::Coupled(FormulaForm {
         passenger: &["x1", "x2"],
         driver: "zeta",
         passenger_potential: "(x1^2 + x2^2)/2",
         driver_potential: "1 - cos(zeta) - epsilon*sin(2*zeta)/2",
         constraints: &[&["1", "sin(zeta)"]],
-    },
+    }),
+    exact: None,
 };
 
 impl CvtPendulum {
@@ -88,6 +90,9 @@ impl BuiltIn<3, 1> for CvtPendulum {
 }
 
 impl System<3, 1> for CvtPendulum {
+    fn rank_is_constant(&self) -> bool {
+        true
+    }
     fn quadratic_passenger(&self) -> bool {
         true
     }

@@ -4,7 +4,7 @@
 //! potential, constraint `−sin ζ ẋ₁ + (cos ζ − ε) ẋ₂ = 0`. The perturbation ε breaks the
 //! reversibility that the paper credits for near conservation; |ε| < 1 keeps A of full rank.
 
-use crate::model::system::{BuiltIn, FormulaForm, DriverTerms, ParamSpec, Preset, System, SystemInfo};
+use crate::model::system::{BuiltIn, Form, FormulaForm, DriverTerms, ParamSpec, Preset, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -53,13 +53,15 @@ static INFO: SystemInfo = SystemInfo {
             step: PI / 10.0,
             t_end: 100.0,
         },
-    ],    formulas: FormulaForm {
+    ],
+    form: Form::Coupled(FormulaForm {
         passenger: &["x1", "x2"],
         driver: "zeta",
         passenger_potential: "-x1",
         driver_potential: "0",
         constraints: &[&["-sin(zeta)", "cos(zeta) - epsilon"]],
-    },
+    }),
+    exact: None,
 };
 
 impl BuiltIn<3, 1> for KnifeEdge {
@@ -72,6 +74,9 @@ impl BuiltIn<3, 1> for KnifeEdge {
 }
 
 impl System<3, 1> for KnifeEdge {
+    fn rank_is_constant(&self) -> bool {
+        true
+    }
     fn quadratic_passenger(&self) -> bool {
         true
     }

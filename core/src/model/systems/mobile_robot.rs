@@ -4,7 +4,7 @@
 //! driver is no longer uniform.
 
 use super::rolling_disk::{DISK_INTEGRALS, disk_kernel, disk_terms};
-use crate::model::system::{BuiltIn, FormulaForm, DriverTerms, Preset, System, SystemInfo};
+use crate::model::system::{BuiltIn, Form, FormulaForm, DriverTerms, Preset, System, SystemInfo};
 use crate::{Matrix, Vector};
 
 /// The mobile robot (no parameters).
@@ -25,13 +25,15 @@ static INFO: SystemInfo = SystemInfo {
         v: &[-1.0, 0.0, 1.0, 1.0],
         step: 0.1,
         t_end: 100.0,
-    }],    formulas: FormulaForm {
+    }],
+    form: Form::Coupled(FormulaForm {
         passenger: &["x1", "x2", "phi"],
         driver: "zeta",
         passenger_potential: "0",
         driver_potential: "sin(zeta)",
         constraints: &[&["1", "0", "cos(zeta)"], &["0", "1", "sin(zeta)"]],
-    },
+    }),
+    exact: None,
 };
 
 impl BuiltIn<4, 2> for MobileRobot {
@@ -44,6 +46,9 @@ impl BuiltIn<4, 2> for MobileRobot {
 }
 
 impl System<4, 2> for MobileRobot {
+    fn rank_is_constant(&self) -> bool {
+        true
+    }
     fn quadratic_passenger(&self) -> bool {
         true
     }

@@ -3,7 +3,7 @@
 //! `q = (x₁, x₂, ζ)`, `U = ½x₂²`, `V_d = ½ζ²`, constraint `ẋ₁ + ζ ẋ₂ = 0`. The paper did not
 //! run it; the default state starts the passenger at rest off its equilibrium.
 
-use crate::model::system::{BuiltIn, FormulaForm, Preset, System, SystemInfo};
+use crate::model::system::{BuiltIn, Form, FormulaForm, Preset, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 
 /// The nonholonomic particle (no parameters).
@@ -29,13 +29,15 @@ static INFO: SystemInfo = SystemInfo {
         v: &[0.0, 0.0, 1.0],
         step: 0.1,
         t_end: 1000.0,
-    }],    formulas: FormulaForm {
+    }],
+    form: Form::Coupled(FormulaForm {
         passenger: &["x1", "x2"],
         driver: "zeta",
         passenger_potential: "x2^2/2",
         driver_potential: "zeta^2/2",
         constraints: &[&["1", "zeta"]],
-    },
+    }),
+    exact: None,
 };
 
 impl BuiltIn<3, 1> for Particle {
@@ -48,6 +50,9 @@ impl BuiltIn<3, 1> for Particle {
 }
 
 impl System<3, 1> for Particle {
+    fn rank_is_constant(&self) -> bool {
+        true
+    }
     fn quadratic_passenger(&self) -> bool {
         true
     }

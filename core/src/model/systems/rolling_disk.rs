@@ -5,7 +5,7 @@
 //! `ẋ₁ + cos ζ φ̇ = 0`, `ẋ₂ + sin ζ φ̇ = 0`. No potential, so the heading turns uniformly and
 //! the disk runs on a circle: an exact solution for the convergence tests.
 
-use crate::model::system::{BuiltIn, FormulaForm, DriverTerms, Preset, System, SystemInfo};
+use crate::model::system::{BuiltIn, Form, FormulaForm, DriverTerms, Preset, System, SystemInfo};
 use crate::{Integral, Matrix, Vector};
 
 /// The vertical rolling disk (no parameters).
@@ -48,13 +48,15 @@ static INFO: SystemInfo = SystemInfo {
         v: &[-1.0, 0.0, 1.0, 1.0],
         step: 0.1,
         t_end: 100.0,
-    }],    formulas: FormulaForm {
+    }],
+    form: Form::Coupled(FormulaForm {
         passenger: &["x1", "x2", "phi"],
         driver: "zeta",
         passenger_potential: "0",
         driver_potential: "0",
         constraints: &[&["1", "0", "cos(zeta)"], &["0", "1", "sin(zeta)"]],
-    },
+    }),
+    exact: None,
 };
 
 impl BuiltIn<4, 2> for RollingDisk {
@@ -67,6 +69,9 @@ impl BuiltIn<4, 2> for RollingDisk {
 }
 
 impl System<4, 2> for RollingDisk {
+    fn rank_is_constant(&self) -> bool {
+        true
+    }
     fn quadratic_passenger(&self) -> bool {
         true
     }

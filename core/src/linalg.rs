@@ -150,6 +150,61 @@ pub(crate) fn solve<const N: usize, const K: usize>(
     inverse(a).map(|inv| inv * b)
 }
 
+/// `det a` by LU with partial pivoting (0 where a pivot is 0).
+#[inline]
+pub(crate) fn determinant<const N: usize>(a: &Matrix<N, N>) -> f64 {
+    let mut m = *a;
+    let mut det = 1.0;
+    for k in 0..N {
+        let p = (k..N).max_by(|&i, &j| m[(i, k)].abs().total_cmp(&m[(j, k)].abs())).unwrap_or(k);
+        if m[(p, k)] == 0.0 {
+            return 0.0;
+        }
+        if p != k {
+            m.swap_rows(p, k);
+            det = -det;
+        }
+        det *= m[(k, k)];
+        for i in k + 1..N {
+            let f = m[(i, k)] / m[(k, k)];
+            for j in k..N {
+                m[(i, j)] -= f * m[(k, j)];
+            }
+        }
+    }
+    det
+}
+
+/// The smallest pivot `dᵢ` of the Cholesky factor of a symmetric positive semi-definite `g`
+/// (`g = L Lᵀ`, `dᵢ = Lᵢᵢ`): 0 where g is singular (or not positive definite), and never above
+/// `√λ_max`; with `g = A Aᵀ` it falls to 0 with A's smallest singular value, a bound cheap enough
+/// to look at every step.
+#[inline]
+pub(crate) fn smallest_cholesky_pivot<const R: usize>(g: &Matrix<R, R>) -> f64 {
+    let mut l = Matrix::<R, R>::zeros();
+    let mut smallest = f64::INFINITY;
+    for j in 0..R {
+        let mut d = g[(j, j)];
+        for k in 0..j {
+            d -= l[(j, k)] * l[(j, k)];
+        }
+        if !(d > 0.0) {
+            return 0.0;
+        }
+        let d = d.sqrt();
+        smallest = smallest.min(d);
+        l[(j, j)] = d;
+        for i in j + 1..R {
+            let mut x = g[(i, j)];
+            for k in 0..j {
+                x -= l[(i, k)] * l[(j, k)];
+            }
+            l[(i, j)] = x / d;
+        }
+    }
+    smallest
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
