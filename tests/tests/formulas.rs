@@ -61,8 +61,9 @@ async fn the_issues_example_runs_and_echoes_its_system() {
     assert_eq!(answer["scene"]["params"]["eps"], 0.2);
 }
 
-/// Every built-in's formula form from `GET /systems`, sent with its first preset's state,
-/// gives the built-in's series (the core's tests compare the steps to 1e-12).
+/// Every built-in's formula forms from `GET /systems` (the paper's form where it has one, the
+/// general form always), sent with its first preset's state, give the built-in's series (the
+/// core's tests compare the steps to 1e-12).
 #[tokio::test]
 async fn every_built_ins_formula_form_gives_its_numbers() {
     let s = TestServer::start().await;
@@ -74,28 +75,31 @@ async fn every_built_ins_formula_form_gives_its_numbers() {
                             "t_end": 20.0, "params": preset["params"], "points": 50});
         let mut built_in = common.clone();
         built_in["system"] = json!(id);
-        let mut formulas = common;
-        formulas["system"] = system["formulas"].clone();
         let (a, built) = s.post_json("/simulate", &built_in).await;
-        let (b, custom) = s.post_json("/simulate", &formulas).await;
-        assert_eq!((a, b), (200, 200), "{id}: {built} {custom}");
-        assert_eq!(built["scene"]["integrals"], custom["scene"]["integrals"], "{id}");
-        for (x, y) in
-            built["runs"].as_array().unwrap().iter().zip(custom["runs"].as_array().unwrap())
-        {
-            assert_eq!(x["status"], y["status"], "{id}");
-            for (integral, sx) in x["series"].as_object().unwrap() {
-                let sy = &y["series"][integral];
-                for (bx, by) in
-                    sx["max"].as_array().unwrap().iter().zip(sy["max"].as_array().unwrap())
-                {
-                    let (bx, by) = (bx.as_f64().unwrap_or(0.0), by.as_f64().unwrap_or(0.0));
-                    // Errors at round-off differ by round-off.
-                    assert!(
-                        (bx - by).abs() <= 1e-9 * bx.abs() + 1e-12,
-                        "{id} {} {integral}: {bx} vs {by}",
-                        x["method"]
-                    );
+        assert_eq!(a, 200, "{id}: {built}");
+        for form in ["formulas", "general"].into_iter().filter(|f| !system[*f].is_null()) {
+            let mut formulas = common.clone();
+            formulas["system"] = system[form].clone();
+            let (b, custom) = s.post_json("/simulate", &formulas).await;
+            assert_eq!(b, 200, "{id} {form}: {custom}");
+            assert_eq!(built["scene"]["integrals"], custom["scene"]["integrals"], "{id} {form}");
+            for (x, y) in
+                built["runs"].as_array().unwrap().iter().zip(custom["runs"].as_array().unwrap())
+            {
+                assert_eq!(x["status"], y["status"], "{id} {form}");
+                for (integral, sx) in x["series"].as_object().unwrap() {
+                    let sy = &y["series"][integral];
+                    for (bx, by) in
+                        sx["max"].as_array().unwrap().iter().zip(sy["max"].as_array().unwrap())
+                    {
+                        let (bx, by) = (bx.as_f64().unwrap_or(0.0), by.as_f64().unwrap_or(0.0));
+                        // Errors at round-off differ by round-off.
+                        assert!(
+                            (bx - by).abs() <= 1e-9 * bx.abs() + 1e-12,
+                            "{id} {form} {} {integral}: {bx} vs {by}",
+                            x["method"]
+                        );
+                    }
                 }
             }
         }
@@ -225,9 +229,9 @@ async fn formula_errors_name_the_field_the_position_and_the_reason() {
     body["integrals"] = json!(["latitude"]);
     rejected(&s, &body, "integrals[0]", &["no integral 'latitude'", "U = |x|²/2"]).await;
     // Unknown fields in the object are a 400 at their path.
-    let body = with(bowl(), |s| s["potential"] = json!("x"));
+    let body = with(bowl(), |s| s["potentials"] = json!("x"));
     let (status, error) = s.post_json("/simulate", &body).await;
-    assert_eq!((status, error["path"].as_str()), (400, Some("system.potential")), "{error}");
+    assert_eq!((status, error["path"].as_str()), (400, Some("system.potentials")), "{error}");
     let body = with(bowl(), |s| s["constraints"][0][1] = json!(5));
     let (status, error) = s.post_json("/simulate", &body).await;
     assert_eq!(

@@ -42,7 +42,7 @@ pub const LITERATURE_SCENES: [(&str, &str); 7] = [
     ("contact_oscillator", "mp"),
     ("nonholonomic_oscillator", "default"),
     ("heisenberg", "default"),
-    ("vertical_disk", "odelab"),
+    ("vertical_disk", "long"),
 ];
 
 /// A system's parameter values and initial state, sizes erased: what its code needs of a

@@ -39,6 +39,9 @@ pub struct ReferenceSummary {
     pub state: ReferenceState,
     /// Its wall time, in milliseconds.
     pub elapsed_ms: f64,
+    /// Whether it is the system's exact solution (`SystemInfo::exact`) rather than a
+    /// numerical one.
+    pub exact: bool,
 }
 
 struct Watch<'a> {
@@ -60,7 +63,8 @@ impl Observer for Watch<'_> {
     }
 }
 
-/// Solves the reference for `scene` (its t_end) once.
+/// Solves the reference for `scene` (its t_end) once: its exact solution where the system has
+/// one.
 pub fn reference(scene: &PreparedScene) -> Result<ReferenceSummary, ReferenceError> {
     reference_until(scene, &|| false)
 }
@@ -72,8 +76,13 @@ pub fn reference_until(
     stop: &dyn Fn() -> bool,
 ) -> Result<ReferenceSummary, ReferenceError> {
     let t = Instant::now();
+    if let Some((q, v)) = scene.scene.exact() {
+        let state =
+            ReferenceState { q, v, constraint_residual: 0.0, evaluations: 0, steps: 0 };
+        return Ok(ReferenceSummary { state, elapsed_ms: 0.0, exact: true });
+    }
     let state = scene.scene.reference_until(TOL, stop)?;
-    Ok(ReferenceSummary { state, elapsed_ms: t.elapsed().as_secs_f64() * 1e3 })
+    Ok(ReferenceSummary { state, elapsed_ms: t.elapsed().as_secs_f64() * 1e3, exact: false })
 }
 
 /// Runs `method` on `scene` with a step near `step`, `reps` times (at least once), and

@@ -32,12 +32,34 @@ pub struct Plan {
     pub points: usize,
     /// The resolved scene as reported.
     pub scene: SceneView,
+    /// Per method: why it has no step for the system, where it has none (a run of it is
+    /// refused, or reported as not applicable by the scorecard).
+    pub not_applicable: Vec<Option<String>>,
 }
 
 impl Plan {
     /// Resolves and checks `req` against the limits of `config`; the latitude axis comes from
-    /// `caches` (computed and kept there on a miss).
+    /// `caches` (computed and kept there on a miss). A method that has no step for the
+    /// system is refused at `methods[i]` (at `methods` for the defaults).
     pub fn resolve(
+        req: &SimulateRequest,
+        config: &Config,
+        caches: &Caches,
+        delivery: Delivery,
+    ) -> Result<Self, AppError> {
+        let plan = Self::resolve_all(req, config, caches, delivery)?;
+        if let Some((i, why)) =
+            plan.not_applicable.iter().enumerate().find_map(|(i, w)| Some((i, w.as_ref()?)))
+        {
+            let at = if req.methods.is_some() { format!("methods[{i}]") } else { "methods".into() };
+            return Err(AppError::invalid(at, why.clone()));
+        }
+        Ok(plan)
+    }
+
+    /// [`Plan::resolve`], keeping the methods that have no step for the system (with why,
+    /// in `not_applicable`): the scorecard reports them so.
+    pub fn resolve_all(
         req: &SimulateRequest,
         config: &Config,
         caches: &Caches,
@@ -74,7 +96,9 @@ impl Plan {
             }
         };
         let scene = SceneView::of(&prepared, &methods, points);
-        let plan = Self { prepared: Arc::new(prepared), methods, points, scene };
+        let not_applicable =
+            methods.iter().map(|m| prepared.check_method(m).err().map(|e| e.to_string())).collect();
+        let plan = Self { prepared: Arc::new(prepared), methods, points, scene, not_applicable };
         let bytes_per_point = match delivery {
             // A stream keeps the buckets too, and a short run's last events hold them all as
             // JSON text, waiting for the client: as much as a JSON answer.

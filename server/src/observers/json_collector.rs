@@ -5,7 +5,7 @@
 //! only at the end. Its counterpart for a stream is [`SseEmitter`](crate::observers::SseEmitter).
 
 use crate::compute::Cancel;
-use crate::observers::Verdicts;
+use crate::observers::{IntegralNames, Verdicts};
 use crate::views::SeriesView;
 use nhlab_core::{Bucket, Gap, Integral, Observer};
 use std::collections::BTreeMap;
@@ -22,9 +22,9 @@ pub struct JsonCollector {
 }
 
 impl JsonCollector {
-    /// A collector for `integrals`, stopping when `cancel` is set.
-    pub fn new(integrals: &[Integral], cancel: Cancel) -> Self {
-        Self { integrals: integrals.to_vec(), verdicts: Verdicts::default(), cancel }
+    /// A collector for `integrals` named by `names`, stopping when `cancel` is set.
+    pub fn new(integrals: &[Integral], names: IntegralNames, cancel: Cancel) -> Self {
+        Self { integrals: integrals.to_vec(), verdicts: Verdicts::new(names), cancel }
     }
 
     /// The series by integral id, each with its verdict (null for an empty series).
@@ -38,7 +38,7 @@ impl JsonCollector {
                 }
                 series.verdict = Some(self.verdicts.of(i));
                 series.gap = Some(self.verdicts.gap_of(i));
-                (i.id().to_owned(), series)
+                (self.verdicts.name(i), series)
             })
             .collect()
     }

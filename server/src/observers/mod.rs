@@ -11,4 +11,4 @@ mod verdicts;
 pub use json_collector::JsonCollector;
 pub use sse_emitter::SseEmitter;
 pub use sse_event::sse_event;
-pub use verdicts::Verdicts;
+pub use verdicts::{IntegralNames, Verdicts};

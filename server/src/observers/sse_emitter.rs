@@ -7,7 +7,7 @@
 //! answer is [`JsonCollector`](crate::observers::JsonCollector).
 
 use crate::compute::Cancel;
-use crate::observers::{Verdicts, sse_event};
+use crate::observers::{IntegralNames, Verdicts, sse_event};
 use crate::views::{GapView, PointsEvent, ProgressEvent, SeriesView, VerdictView};
 use axum::response::sse::Event;
 use nhlab_core::{Bucket, Gap, Integral, Observer};
@@ -36,15 +36,22 @@ pub struct SseEmitter {
 }
 
 impl SseEmitter {
-    /// An emitter for run `run` of `steps` steps, reporting every `every`.
-    pub fn new(run: usize, steps: u64, every: Duration, tx: Sender<Event>, cancel: Cancel) -> Self {
+    /// An emitter for run `run` of `steps` steps, its series named by `names`, reporting
+    /// every `every`.
+    pub fn new(
+        (run, steps): (usize, u64),
+        names: IntegralNames,
+        every: Duration,
+        tx: Sender<Event>,
+        cancel: Cancel,
+    ) -> Self {
         Self {
             run,
             steps,
             tx,
             cancel,
             pending: Vec::new(),
-            verdicts: Verdicts::default(),
+            verdicts: Verdicts::new(names),
             last: Instant::now(),
             every,
             reached: (0, 0.0),
@@ -55,15 +62,14 @@ impl SseEmitter {
     /// after the run, before its `run` event).
     pub fn take_points(&mut self) -> Vec<Event> {
         let run = self.run;
+        let verdicts = &self.verdicts;
         self.pending
             .iter_mut()
             .filter(|(_, s)| !s.is_empty())
             .map(|(integral, series)| {
                 let series = std::mem::take(series);
-                sse_event(
-                    "points",
-                    &PointsEvent { run, integral: integral.id().to_owned(), series },
-                )
+                let integral = verdicts.name(*integral);
+                sse_event("points", &PointsEvent { run, integral, series })
             })
             .collect()
     }

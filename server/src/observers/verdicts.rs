@@ -3,47 +3,85 @@
 //! gaps ([`GapView`]). Both observers keep one.
 
 use crate::views::{GapView, VerdictView};
-use nhlab_core::{Bucket, Gap, Integral, classify};
+use nhlab_core::{Bucket, Gap, Integral, PreparedScene, classify};
 use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// The API names of a scene's integrals: the fixed ones', and its system's invariants'.
+#[derive(Debug, Clone, Default)]
+pub struct IntegralNames(Arc<[String]>);
+
+impl IntegralNames {
+    /// The names of `prepared`'s integrals.
+    pub fn of(prepared: &PreparedScene) -> Self {
+        Self(prepared.scene.system.invariant_names().into())
+    }
+
+    /// The API name of `integral`.
+    pub fn name(&self, integral: Integral) -> String {
+        match integral {
+            Integral::Invariant(k) => {
+                self.0.get(k as usize).cloned().unwrap_or_else(|| format!("invariant{k}"))
+            }
+            _ => integral.id().to_owned(),
+        }
+    }
+}
 
 /// A run's series kept whole for their verdicts, by integral (an array indexed by the
-/// integral's discriminant: a bucket costs a push, not a map lookup).
+/// integral's dense index: a bucket costs a push, not a map lookup).
 #[derive(Debug, Clone, Default)]
 pub struct Verdicts {
-    initial: [Option<f64>; Integral::ALL.len()],
-    buckets: [Vec<Bucket>; Integral::ALL.len()],
-    gaps: [Option<Gap>; Integral::ALL.len()],
+    names: IntegralNames,
+    initial: [Option<f64>; Integral::COUNT],
+    buckets: [Vec<Bucket>; Integral::COUNT],
+    gaps: [Option<Gap>; Integral::COUNT],
 }
 
 impl Verdicts {
+    /// Verdicts of series named by `names`.
+    pub fn new(names: IntegralNames) -> Self {
+        Self { names, ..Self::default() }
+    }
+
+    /// The API name of `integral`.
+    pub fn name(&self, integral: Integral) -> String {
+        self.names.name(integral)
+    }
+
+    /// Every integral a run may have, in order.
+    fn every() -> impl Iterator<Item = Integral> {
+        (0..Integral::COUNT).filter_map(Integral::of_index)
+    }
+
     /// Records `I(0)` of a series (the scale of `exact`).
     pub fn initial(&mut self, integral: Integral, value: f64) {
-        self.initial[integral as usize] = Some(value);
+        self.initial[integral.index()] = Some(value);
     }
 
     /// Records a bucket.
     pub fn push(&mut self, integral: Integral, bucket: Bucket) {
-        self.buckets[integral as usize].push(bucket);
+        self.buckets[integral.index()].push(bucket);
     }
 
     /// Records a series' gap.
     pub fn gap(&mut self, integral: Integral, gap: Gap) {
-        self.gaps[integral as usize] = Some(gap);
+        self.gaps[integral.index()] = Some(gap);
     }
 
     /// The gap of one series, if it has one.
     pub fn gap_of(&self, integral: Integral) -> Option<GapView> {
-        self.gaps[integral as usize].map(GapView::from)
+        self.gaps[integral.index()].map(GapView::from)
     }
 
     /// Every series' gap, by integral id (only those that have one).
     pub fn gaps(&self) -> BTreeMap<String, GapView> {
-        Integral::ALL.iter().filter_map(|&i| Some((i.id().to_owned(), self.gap_of(i)?))).collect()
+        Self::every().filter_map(|i| Some((self.name(i), self.gap_of(i)?))).collect()
     }
 
     /// The buckets of one series (empty if it has none).
     pub fn buckets(&self, integral: Integral) -> &[Bucket] {
-        &self.buckets[integral as usize]
+        &self.buckets[integral.index()]
     }
 
     /// The verdict of one series (`None` when it has no bucket: nothing to judge).
@@ -52,12 +90,12 @@ impl Verdicts {
         if buckets.is_empty() {
             return None;
         }
-        let scale = self.initial[integral as usize].unwrap_or(0.0);
+        let scale = self.initial[integral.index()].unwrap_or(0.0);
         Some(classify(buckets, scale).into())
     }
 
     /// Every series' verdict, by integral id.
     pub fn all(&self) -> BTreeMap<String, VerdictView> {
-        Integral::ALL.iter().filter_map(|&i| Some((i.id().to_owned(), self.of(i)?))).collect()
+        Self::every().filter_map(|i| Some((self.name(i), self.of(i)?))).collect()
     }
 }

@@ -26,5 +26,5 @@ pub use scorecard_request::ScorecardRequest;
 pub use simulate_request::SimulateRequest;
 pub(crate) use simulate_request::scene_body;
 pub use sweep_request::{AxisRequest, SweepRequest};
-pub use system_field::{FormulaSystem, SystemField};
+pub use system_field::{FormulaSystem, GeneralSystem, MassField, SystemField};
 pub use work_precision_request::WorkPrecisionRequest;

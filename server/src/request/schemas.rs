@@ -40,6 +40,7 @@ pub(crate) fn system() -> OneOfBuilder {
     OneOfBuilder::new()
         .item(system_id())
         .item(<crate::request::FormulaSystem as utoipa::PartialSchema>::schema())
+        .item(<crate::request::GeneralSystem as utoipa::PartialSchema>::schema())
 }
 
 /// `preset`: one of the presets of any system (each system has its own; see GET /systems).
@@ -69,9 +70,14 @@ pub(crate) fn state() -> ArrayBuilder {
     ArrayBuilder::new().items(number().minimum(Some(-limit)).maximum(Some(limit)))
 }
 
-/// `integrals`: a non-empty list of integral ids.
+/// `integrals`: a non-empty list of integral ids, or the names of the system's invariants.
 pub(crate) fn integrals() -> ArrayBuilder {
-    ArrayBuilder::new().items(strings(Integral::ALL.map(Integral::id).to_vec())).min_items(Some(1))
+    let ids = Integral::ALL.map(Integral::id).join(", ");
+    ArrayBuilder::new()
+        .items(ObjectBuilder::new().schema_type(Type::String).description(Some(format!(
+            "an integral id ({ids}) or the name of one of the system's invariants"
+        ))))
+        .min_items(Some(1))
 }
 
 /// `methods`: a non-empty list of method ids, `{"id": …, param: value}` objects or

@@ -14,14 +14,16 @@ use crate::compute::{
 };
 use crate::error::{AppError, ErrorBody};
 use crate::json_object::JsonObject;
-use crate::observers::JsonCollector;
+use crate::observers::{IntegralNames, JsonCollector};
 use crate::request::{MethodRequest, SceneSpec, ScorecardRequest};
 use crate::state::AppState;
 use crate::views::{
-    CRITERION, PROPERTIES_TEST, PropertiesView, ScorecardResponse, ScorecardRun, ScorecardScene,
+    CRITERION, PROPERTIES_TEST, PropertiesView, RunSummary, ScorecardResponse, ScorecardRun,
+    ScorecardScene,
 };
 use axum::Json;
 use axum::extract::State;
+use nhlab_core::catalogue::registry::LITERATURE_SCENES;
 use nhlab_core::{Method, PAPER_SCENES};
 
 /// Most scenes per scorecard.
@@ -84,6 +86,7 @@ fn plans(req: &ScorecardRequest, state: &AppState) -> Result<(Vec<Plan>, u64), A
     let scenes = match &req.scenes {
         None => PAPER_SCENES
             .iter()
+            .chain(&LITERATURE_SCENES)
             .map(|(system, preset)| SceneSpec {
                 system: (*system).into(),
                 preset: Some((*preset).to_owned()),
@@ -110,7 +113,7 @@ fn plans(req: &ScorecardRequest, state: &AppState) -> Result<(Vec<Plan>, u64), A
         .enumerate()
         .map(|(i, scene)| {
             let sim = scene.to_simulate(Some(methods.clone()), req.points);
-            Plan::resolve(&sim, &state.config, &state.caches, Delivery::JsonOnly).map_err(
+            Plan::resolve_all(&sim, &state.config, &state.caches, Delivery::JsonOnly).map_err(
                 |mut e| {
                     // Methods and points are the scorecard's own fields; the rest is the scene's.
                     if let Some(path) = &e.path
@@ -147,20 +150,34 @@ async fn run(
     for (plan, id) in plans.iter().zip(ids) {
         // A collector keeps the series the verdicts need; only they are reported.
         let handles: Vec<_> = (0..plan.methods.len())
-            .map(|i| runner.spawn(plan, i, JsonCollector::new(&[], cancel.clone())))
+            .map(|i| {
+                let names = IntegralNames::of(&plan.prepared);
+                let collector = JsonCollector::new(&[], names, cancel.clone());
+                plan.not_applicable[i].is_none().then(|| runner.spawn(plan, i, collector))
+            })
             .collect();
         let (scene, methods) = (plan.prepared.clone(), plan.methods.clone());
+        let not_applicable = plan.not_applicable.clone();
         let (guard, cancel, slot) = (state.run_guard(), cancel.clone(), slot.clone());
         let measure = tokio::task::spawn_blocking(move || {
             let (_guard, _slot) = (guard, slot);
             lower_priority();
-            let measure = |m: &Method| (!cancel.is_cancelled()).then(|| scene.scene.properties(m));
-            methods.iter().map(measure).collect::<Vec<_>>()
+            let measure = |(m, why): (&Method, &Option<String>)| {
+                (!cancel.is_cancelled())
+                    .then(|| if why.is_some() { None } else { Some(scene.scene.properties(m)) })
+            };
+            methods.iter().zip(&not_applicable).map(measure).collect::<Vec<_>>()
         });
         let mut out = Vec::with_capacity(handles.len());
         for (i, handle) in handles.into_iter().enumerate() {
-            let finished = handle.await.map_err(|e| AppError::internal(format!("run {i}: {e}")))?;
             let method = &plan.scene.methods[i];
+            let Some(handle) = handle else {
+                let why = plan.not_applicable[i].clone().unwrap_or_default();
+                let summary = RunSummary::not_applicable(method.clone(), why);
+                out.push(ScorecardRun { summary, verdicts: Default::default(), gaps: Default::default() });
+                continue;
+            };
+            let finished = handle.await.map_err(|e| AppError::internal(format!("run {i}: {e}")))?;
             let summary = finished.summary(method.clone()).map_err(|panic| {
                 AppError::internal(format!(
                     "internal error: the simulation of {} on {id} panicked: {panic}",
@@ -175,12 +192,11 @@ async fn run(
         })?;
         for (method, m) in plan.scene.methods.iter().zip(measured) {
             let m = m.ok_or_else(|| AppError::internal("the scorecard was cancelled"))?;
-            properties.push(PropertiesView::of(
-                method.clone(),
-                &plan.scene.system.to_string(),
-                &id,
-                m,
-            ));
+            let system = plan.scene.system.to_string();
+            properties.push(match m {
+                Some(measured) => PropertiesView::of(method.clone(), &system, &id, measured),
+                None => PropertiesView::not_applicable(method.clone(), &system, &id),
+            });
         }
         scenes.push(ScorecardScene { id, scene: plan.scene.clone(), runs: out });
     }

@@ -9,7 +9,7 @@ use crate::compute::{
 };
 use crate::error::{AppError, ErrorBody};
 use crate::json_object::JsonObject;
-use crate::observers::JsonCollector;
+use crate::observers::{IntegralNames, JsonCollector};
 use crate::request::SimulateRequest;
 use crate::routes::simulate_stream::stream;
 use crate::state::AppState;
@@ -149,7 +149,8 @@ async fn run(
     let runner = state.runner().with_slot(slot);
     let handles: Vec<_> = (0..plan.methods.len())
         .map(|i| {
-            runner.spawn(plan, i, JsonCollector::new(&plan.prepared.integrals, cancel.clone()))
+            let names = IntegralNames::of(&plan.prepared);
+            runner.spawn(plan, i, JsonCollector::new(&plan.prepared.integrals, names, cancel.clone()))
         })
         .collect();
     let mut finished = Vec::with_capacity(handles.len());

@@ -12,7 +12,7 @@
 //! and a `shutdown` event ends the stream instead of `done`.
 
 use crate::compute::{BudgetGuard, Cancel, Finished, Plan, Runner, Slot, millis};
-use crate::observers::{SseEmitter, sse_event};
+use crate::observers::{IntegralNames, SseEmitter, sse_event};
 use crate::state::AppState;
 use crate::views::{DoneEvent, MethodView, RunEvent, RunSummary, ShutdownEvent, Status};
 use axum::response::sse::{Event, KeepAlive, Sse};
@@ -59,7 +59,8 @@ async fn coordinate(
     let steps = plan.scene.steps;
     let mut runs: FuturesUnordered<_> = (0..plan.methods.len())
         .map(|i| {
-            let emitter = SseEmitter::new(i, steps, every, tx.clone(), cancel.clone());
+            let names = IntegralNames::of(&plan.prepared);
+            let emitter = SseEmitter::new((i, steps), names, every, tx.clone(), cancel.clone());
             let method = plan.scene.methods[i].clone();
             let step = plan.prepared.scene.step;
             let handle =

@@ -235,7 +235,7 @@ fn compute(job: &Job, caches: &Caches, cancel: &Cancel) -> Result<WorkPrecisionR
             let max_error = prepared
                 .integrals
                 .iter()
-                .map(|i| (i.id().to_owned(), row.max_error.get(i).copied().and_then(finite)))
+                .map(|i| (prepared.integral_name(*i), row.max_error.get(i).copied().and_then(finite)))
                 .collect();
             rows.push(WorkPrecisionRow {
                 method: view.clone(),
@@ -257,6 +257,7 @@ fn compute(job: &Job, caches: &Caches, cancel: &Cancel) -> Result<WorkPrecisionR
             steps: r.state.steps,
             constraint_residual: r.state.constraint_residual,
             cached,
+            exact: r.exact,
         },
         rows,
     })

@@ -169,7 +169,7 @@ impl Sweep {
         let measured = match out.iter().find_map(|c| c.scene.as_ref().ok()) {
             Some(scene) => {
                 let prepared = prepare(scene, integrals.as_deref(), axis)?;
-                prepared.integrals.iter().map(|i| i.id().to_owned()).collect()
+                prepared.integrals.iter().map(|&i| prepared.integral_name(i)).collect()
             }
             None => integrals.clone().unwrap_or_default(),
         };
@@ -263,7 +263,7 @@ fn initial_state(req: &SweepRequest) -> (Vec<f64>, Vec<f64>) {
                 Some(p) => presets.iter().find(|x| x.id == p),
             }
         }),
-        SystemField::Formulas(_) => None,
+        SystemField::Formulas(_) | SystemField::General(_) => None,
     };
     let q = req.q.clone().or_else(|| preset.map(|p| p.q.to_vec())).unwrap_or_default();
     let v = req.v.clone().or_else(|| preset.map(|p| p.v.to_vec())).unwrap_or_default();
@@ -281,6 +281,7 @@ fn check_targets(
             .ok()
             .map(|e| e.info().params.iter().map(|p| p.name.to_owned()).collect()),
         SystemField::Formulas(f) => Some(f.parameters.0.iter().map(|p| p.0.clone()).collect()),
+        SystemField::General(g) => Some(g.parameters.0.iter().map(|p| p.0.clone()).collect()),
     };
     for (k, a) in axes.iter().enumerate() {
         let at = format!("axes[{k}].path");

@@ -5,8 +5,8 @@
 //! cell alone, so the same request gives the same rows, whatever the workers and the order.
 
 use crate::compute::{Cancel, PROGRESS_EVERY, ThreadClock};
-use crate::observers::JsonCollector;
-use crate::request::{FormulaSystem, MethodRequest, SystemField};
+use crate::observers::{IntegralNames, JsonCollector};
+use crate::request::{MethodRequest, SystemField};
 use crate::sweep::plan::{AxisSource, Sweep, prepare};
 use crate::views::{MethodView, RowStatus, SimulateEcho, SweepCell, SweepRow};
 use nhlab_core::solver::newton;
@@ -68,7 +68,8 @@ impl Sweep {
             match (&prepared, method) {
                 (Err(e), _) | (_, Err(e)) => row.error = Some(e.clone()),
                 (Ok(prepared), Ok(method)) => {
-                    let mut collector = JsonCollector::new(&[], cancel.clone());
+                    let names = IntegralNames::of(prepared);
+                    let mut collector = JsonCollector::new(&[], names, cancel.clone());
                     let clock = ThreadClock::start();
                     newton::take_iterations();
                     let outcome = catch_unwind(AssertUnwindSafe(|| {
@@ -148,7 +149,7 @@ fn resolved(
     SimulateEcho {
         system: match scene.system.custom() {
             None => SystemField::Id(scene.system.id().to_owned()),
-            Some(c) => SystemField::Formulas(Box::new(FormulaSystem::of(&c.spec))),
+            Some(c) => SystemField::of(&c.spec),
         },
         preset: scene.preset.map(str::to_owned),
         params: scene.named_params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect(),

@@ -40,7 +40,8 @@ pub use sweep::{
     SweepResponse, SweepRow,
 };
 pub use systems::{
-    LimitsView, MethodInfoView, PaperScene, ParamView, PresetView, SystemView, SystemsResponse,
+    LimitsView, MethodInfoView, PaperClassView, PaperScene, ParamView, PresetView, SystemView,
+    SystemsResponse,
 };
 pub use verdict::{CRITERION, VerdictView};
 pub use work_precision::{ReferenceView, WorkPrecisionResponse, WorkPrecisionRow};

@@ -47,6 +47,18 @@ impl RunSummary {
         }
     }
 
+    /// A run of `method` not taken: the method has no step for the system (`why`).
+    pub fn not_applicable(method: MethodView, why: String) -> Self {
+        Self {
+            method,
+            status: Status::NotApplicable,
+            error: Some(why),
+            steps: 0,
+            elapsed_ms: 0.0,
+            cpu_ms: None,
+        }
+    }
+
     /// A run of `method` that failed without an outcome (it panicked, or its task was lost):
     /// no step counted.
     pub fn failed(method: MethodView, error: String, elapsed_ms: f64, cpu_ms: Option<f64>) -> Self {

@@ -1,8 +1,8 @@
 //! [`SceneView`]: the resolved scene as the API reports it (the JSON response's `scene`, the
 //! stream's `scene` event): every field after presets and defaults were applied.
 
-use crate::request::{FormulaSystem, SystemField};
-use crate::views::MethodView;
+use crate::request::SystemField;
+use crate::views::{MethodView, PaperClassView};
 use nhlab_core::{Method, PreparedScene};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -34,6 +34,9 @@ pub struct SceneView {
     pub integrals: Vec<String>,
     /// Buckets per series (at most; fewer when there are fewer samples).
     pub points: usize,
+    /// Whether the system is in the paper's class as nhlab finds it (the class's steps run,
+    /// and E, h and the latitude are defined), and as what.
+    pub paper_class: PaperClassView,
 }
 
 impl SceneView {
@@ -51,7 +54,7 @@ impl SceneView {
         Self {
             system: match scene.system.custom() {
                 None => SystemField::Id(scene.system.id().to_owned()),
-                Some(c) => SystemField::Formulas(Box::new(FormulaSystem::of(&c.spec))),
+                Some(c) => SystemField::of(&c.spec),
             },
             preset: scene.preset.map(str::to_owned),
             params: scene.named_params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect(),
@@ -61,8 +64,9 @@ impl SceneView {
             t_end: scene.t_end,
             steps: scene.steps(),
             methods: methods.iter().map(MethodView::of).collect(),
-            integrals: prepared.integrals.iter().map(|i| i.id().to_owned()).collect(),
+            integrals: prepared.integrals.iter().map(|&i| prepared.integral_name(i)).collect(),
             points,
+            paper_class: PaperClassView::of(scene),
         }
     }
 }

@@ -58,10 +58,16 @@ pub struct PropertiesView {
     /// One step, flip the velocity, one step, flip back returns the start (null: the
     /// measurement failed, see `error`).
     pub reversible: Option<bool>,
-    /// The three fibration checks pass.
+    /// One step h, then one step −h, returns the start (`Φ_{−h} ∘ Φ_h = id`, what a
+    /// composition needs).
+    pub symmetric: Option<bool>,
+    /// The three fibration checks pass (null where the fibration is not defined: outside the
+    /// paper's class).
     pub preserves_fibration: Option<bool>,
     /// Largest relative round-trip defect (reversible when ≤ 1e-11).
     pub reversibility_defect: Option<f64>,
+    /// Largest relative `Φ_{−h} ∘ Φ_h` defect (symmetric when ≤ 1e-11).
+    pub symmetry_defect: Option<f64>,
     /// Largest driver change caused by a passenger change (≤ 1e-12 to pass).
     pub driver_coupling: Option<f64>,
     /// Largest reduced-state change caused by a shift along a force-free fiber (≤ 1e-12).
@@ -75,7 +81,9 @@ pub struct PropertiesView {
 /// How the properties are measured (see `nhlab_core::properties`).
 pub const PROPERTIES_TEST: &str = "Measured from each scene's start with its step. \
     Reversible: one step, flip the velocity, one step, flip back returns the start to \
-    1e-11·max(1, |state|), from the start and three later points. Preserves the fibration: \
+    1e-11·max(1, |state|), from the start and three later points. Symmetric: one step h, then \
+    one step −h, returns the start to the same tolerance, from the same points. Preserves the \
+    fibration (the paper's class only): \
     (1) the driver is blind to the passenger: a start with the same driver state and another \
     passenger gives the same driver state after 5 steps to 1e-12; (2) the reduced state is \
     blind to shifts along force-free passenger axes, to 1e-12 after 5 steps; (3) the method \
@@ -99,12 +107,32 @@ impl PropertiesView {
             system: system.to_owned(),
             scene: scene.to_owned(),
             reversible: p.map(|p| p.reversible),
-            preserves_fibration: p.map(|p| p.preserves_fibration),
+            symmetric: p.map(|p| p.symmetric),
+            preserves_fibration: p.filter(|p| p.fibration_measured).map(|p| p.preserves_fibration),
             reversibility_defect: p.and_then(|p| finite(p.reversibility_defect)),
+            symmetry_defect: p.and_then(|p| finite(p.symmetry_defect)),
             driver_coupling: p.and_then(|p| finite(p.driver_coupling)),
             fiber_coupling: p.and_then(|p| finite(p.fiber_coupling)),
             constraint_defect: p.and_then(|p| finite(p.constraint_defect)),
             error,
+        }
+    }
+
+    /// The view of a method that has no step for the scene's system: nothing measured.
+    pub fn not_applicable(method: MethodView, system: &str, scene: &str) -> Self {
+        Self {
+            method,
+            system: system.to_owned(),
+            scene: scene.to_owned(),
+            reversible: None,
+            symmetric: None,
+            preserves_fibration: None,
+            reversibility_defect: None,
+            symmetry_defect: None,
+            driver_coupling: None,
+            fiber_coupling: None,
+            constraint_defect: None,
+            error: Some("the method has no step for this system".into()),
         }
     }
 }

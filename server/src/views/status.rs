@@ -12,6 +12,9 @@ pub enum Status {
     Ok,
     /// It stopped early; `error` says where and why.
     Failed,
+    /// The method has no step for the system (the scorecard's runs only); `error` says why.
+    #[serde(rename = "not_applicable")]
+    NotApplicable,
 }
 
 impl Status {

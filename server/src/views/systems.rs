@@ -4,14 +4,19 @@
 //! server's limits.
 
 use crate::config::Config;
-use crate::request::FormulaSystem;
+use crate::request::{FormulaSystem, GeneralSystem};
 use crate::views::MethodView;
+use nhlab_core::catalogue::custom::SystemSpec;
+use nhlab_core::catalogue::registry::LITERATURE_SCENES;
+use nhlab_core::model::custom::Structure;
+use nhlab_core::model::system::Form;
 use nhlab_core::{
-    Composition, FormulaSpec, Method, PAPER_SCENES, ParamSpec, Preset, SYSTEMS, SystemEntry,
-    method_infos,
+    Composition, FormulaSpec, GeneralSpec, Method, PAPER_SCENES, ParamSpec, Preset, SYSTEMS,
+    Scene, SceneRequest, SystemEntry, method_infos,
 };
 use serde::Serialize;
 use std::collections::BTreeMap;
+use std::sync::OnceLock;
 use utoipa::ToSchema;
 
 /// The answer of `GET /systems`.
@@ -28,6 +33,8 @@ pub struct SystemsResponse {
     pub compositions: Vec<CompositionView>,
     /// The paper's six experiments (the scorecard's default scenes), in the paper's order.
     pub paper_scenes: Vec<PaperScene>,
+    /// The literature's test problems beyond the paper's (the scorecard's further scenes).
+    pub literature_scenes: Vec<PaperScene>,
     /// The server's limits.
     pub limits: LimitsView,
 }
@@ -77,10 +84,86 @@ pub struct SystemView {
     pub integrals: Vec<String>,
     /// Its presets; the first is the default.
     pub presets: Vec<PresetView>,
-    /// The same system written as formulas, its parameters at their defaults: a request
-    /// may send it as `system` (with q and v) and get the same numbers; a starting point
-    /// for a system of one's own.
-    pub formulas: FormulaSystem,
+    /// A system of the paper's class written in the paper's form (passenger, driver, U,
+    /// V_d), its parameters at their defaults: a request may send it as `system` (with q and
+    /// v) and get the same numbers. Null for the others.
+    pub formulas: Option<FormulaSystem>,
+    /// The system in the general form (coordinates, M, V, A, invariants), its parameters at
+    /// their defaults: a request may send it as `system` (with q and v); a starting point for
+    /// a system of one's own.
+    pub general: GeneralSystem,
+    /// Whether it is in the paper's class (`docs/model.md` §1), as nhlab finds it at its
+    /// default parameters.
+    pub paper_class: PaperClassView,
+    /// The methods that apply to it (ids).
+    pub methods: Vec<String>,
+    /// Whether its exact solution is known (work–precision measures against it rather than a
+    /// numerical reference).
+    pub exact: bool,
+}
+
+/// Whether a system is in the paper's class, and as what.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct PaperClassView {
+    /// In the class: the class's steps run, with E, h (and the latitude where defined).
+    pub member: bool,
+    /// The driver ζ's name, where it is.
+    pub driver: Option<String>,
+    /// Why it is not, where it is not.
+    pub why_not: Option<String>,
+}
+
+impl PaperClassView {
+    /// What a scene's system is found to be.
+    pub fn of(scene: &Scene) -> Self {
+        let member = scene.system.in_paper_class();
+        let (driver, why_not) = match scene.system.formulas() {
+            Some(f) => {
+                let driver = match (&f.structure, &f.spec) {
+                    (Structure::Class { driver, .. }, SystemSpec::General(g)) => {
+                        g.coordinates.get(*driver).cloned()
+                    }
+                    (Structure::Class { .. }, SystemSpec::Coupled(c)) => Some(c.driver.clone()),
+                    (Structure::General(_), _) => None,
+                };
+                (driver, f.not_class.clone())
+            }
+            None => {
+                let info = scene.system.built_in().map(SystemEntry::info);
+                if member {
+                    let last = info.and_then(|i| match i.form {
+                        Form::Coupled(f) => Some(f.driver.to_owned()),
+                        Form::General(_) => None,
+                    });
+                    (last, None)
+                } else {
+                    (None, info.and_then(|i| outside_the_class(i.id)))
+                }
+            }
+        };
+        Self { member, driver, why_not }
+    }
+}
+
+/// Why a built-in compiled into nhlab outside the paper's class is outside it: its general
+/// form, at its default parameters, looked at as a system given as formulas would be (once).
+fn outside_the_class(id: &str) -> Option<String> {
+    static WHY: OnceLock<Vec<(&'static str, Option<String>)>> = OnceLock::new();
+    let why = WHY.get_or_init(|| {
+        SYSTEMS
+            .iter()
+            .filter(|e| e.native.as_ref().is_some_and(|c| c.general))
+            .map(|e| {
+                let info = e.info();
+                let defaults: Vec<f64> = info.params.iter().map(|p| p.default).collect();
+                let limits = nhlab_core::CustomLimits::default();
+                let found = GeneralSpec::of_built_in(info, &defaults)
+                    .and_then(|g| nhlab_core::CustomSystem::compile_general(&g, &[], &limits));
+                (info.id, found.ok().and_then(|f| f.not_class))
+            })
+            .collect()
+    });
+    why.iter().find(|(i, _)| *i == id).and_then(|(_, w)| w.clone())
 }
 
 /// A parameter of a system or a method.
@@ -204,19 +287,42 @@ impl PresetView {
 }
 
 impl SystemView {
-    fn of(entry: &SystemEntry) -> Self {
+    fn of(entry: &'static SystemEntry) -> Self {
         let info = entry.info();
+        let defaults: Vec<f64> = info.params.iter().map(|p| p.default).collect();
+        // Every built-in's general form compiles at its defaults (`tests/systems.rs`), and its
+        // default scene resolves (core's `tests/it/inputs.rs`).
+        let general = GeneralSpec::of_built_in(info, &defaults).expect("a built-in's form");
+        let req = SceneRequest { system: info.id.into(), ..Default::default() };
+        let scene = Scene::resolve(&req).expect("a built-in's default scene");
+        let paper_class = PaperClassView::of(&scene);
+        let in_class = paper_class.member;
+        let prepared = scene.clone().prepare(None).expect("a built-in's integrals");
         Self {
             id: info.id.into(),
             name: info.name.into(),
             description: info.description.into(),
-            dof: entry.dof,
-            constraints: entry.constraints,
+            dof: general.coordinates.len(),
+            constraints: general.constraints.len(),
             params: info.params.iter().map(ParamView::of).collect(),
-            integrals: info.integrals.iter().map(|i| i.id().to_owned()).collect(),
+            integrals: scene.system.integrals().iter().map(|&i| prepared.integral_name(i)).collect(),
             presets: info.presets.iter().map(PresetView::of).collect(),
-            formulas: FormulaSystem::of(&FormulaSpec::of(info)),
+            formulas: FormulaSpec::of(info).as_ref().map(FormulaSystem::of),
+            general: GeneralSystem::of(&general),
+            paper_class,
+            methods: method_infos()
+                .into_iter()
+                .filter(|m| in_class || m.class_only.is_none())
+                .map(|m| m.id.to_owned())
+                .collect(),
+            exact: info.exact.is_some(),
         }
+    }
+
+    /// Every built-in's view, computed once (the formula built-ins compile for it).
+    fn all() -> &'static [SystemView] {
+        static ALL: OnceLock<Vec<SystemView>> = OnceLock::new();
+        ALL.get_or_init(|| SYSTEMS.iter().map(SystemView::of).collect())
     }
 }
 
@@ -225,7 +331,7 @@ impl SystemsResponse {
     pub fn new(config: &Config) -> Self {
         let composable = nhlab_core::methods::composable();
         Self {
-            systems: SYSTEMS.iter().map(SystemView::of).collect(),
+            systems: SystemView::all().to_vec(),
             methods: method_infos()
                 .into_iter()
                 .map(|m| MethodInfoView {
@@ -252,6 +358,13 @@ impl SystemsResponse {
                 })
                 .collect(),
             paper_scenes: PAPER_SCENES
+                .iter()
+                .map(|(system, preset)| PaperScene {
+                    system: (*system).into(),
+                    preset: (*preset).into(),
+                })
+                .collect(),
+            literature_scenes: LITERATURE_SCENES
                 .iter()
                 .map(|(system, preset)| PaperScene {
                     system: (*system).into(),

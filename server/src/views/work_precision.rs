@@ -31,6 +31,9 @@ pub struct ReferenceView {
     pub constraint_residual: f64,
     /// Whether it came from the server's cache (an earlier request for the same scene).
     pub cached: bool,
+    /// Whether it is the system's exact solution (the vertical disk's), not Dop853's: then
+    /// it costs nothing, and its evaluations and steps are 0.
+    pub exact: bool,
 }
 
 /// One method at one step.
