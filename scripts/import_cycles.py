@@ -1,10 +1,15 @@
 #!/usr/bin/env python3
-"""Fails if the modules of a crate import each other in a circle.
+"""Fails if the modules of a crate import each other in a circle, or if a crate's wings (its
+top-level modules) import against their order.
 
 Each `.rs` file under SRC is a module; an edge A → B is a path `crate::…`, `super::…` or
 `self::…` in A (in a `use` or inline) that names B or an item of B. Items re-exported by
 `pub use` (at the crate root or in a folder's module file) count as edges to the module
 that defines them. `mod` declarations are not edges, nor is code under `#[cfg(test)]`.
+
+The wings of each crate are layered (LAYERS, lowest first; docs/architecture.md says why):
+a module may import from its own wing and from the layers below, never from above. In the
+core: model → solver → methods → measure → catalogue, on the leaves formula, error, linalg.
 
     python3 scripts/import_cycles.py core/src server/src
 """
@@ -113,15 +118,66 @@ def cycles(src):
     return found
 
 
+# The wings of each crate, lowest layer first.
+LAYERS = {
+    "core/src": [
+        ["formula"],
+        ["error", "linalg"],
+        ["model"],
+        ["solver"],
+        ["methods"],
+        ["measure"],
+        ["catalogue"],
+    ],
+    "server/src": [
+        ["config", "error"],
+        ["request"],
+        ["views"],
+        ["compute"],
+        ["state", "observers"],
+        ["json_object", "serve"],
+        ["sweep"],
+        ["routes"],
+        ["openapi"],
+    ],
+}
+
+
+def against_the_order(src):
+    """The edges from a wing to a wing of a higher layer, and the wings LAYERS lacks."""
+    layers = next((l for k, l in LAYERS.items() if src.rstrip("/").endswith(k)), None)
+    if layers is None:
+        return [], []
+    rank = {wing: i for i, layer in enumerate(layers) for wing in layer}
+    mods = modules(src)
+    re_exports = reexports(mods)
+    bad, unknown = [], sorted({m[0] for m in mods if m and m[0] not in rank and m[0] != "main"})
+    for mod, f in mods.items():
+        if not mod or mod[0] not in rank:
+            continue
+        for p in paths(mod, code(f)):
+            target = resolve(p, mods, re_exports)
+            if target and target[0] in rank and rank[target[0]] > rank[mod[0]]:
+                bad.append((mod, target))
+    return sorted(set(bad)), unknown
+
+
 def main():
     bad = False
     for src in sys.argv[1:]:
         for c in cycles(src):
             bad = True
             print(f"{src}: " + " → ".join("::".join(m) or "crate" for m in c))
+        edges, unknown = against_the_order(src)
+        for a, b in edges:
+            bad = True
+            print(f"{src}: {'::'.join(a)} → {'::'.join(b)} imports against the wings' order")
+        for wing in unknown:
+            bad = True
+            print(f"{src}: the wing `{wing}` is in no layer of LAYERS")
     if bad:
         sys.exit(1)
-    print("no import cycles in " + ", ".join(sys.argv[1:]))
+    print("no import cycles, and the wings in order, in " + ", ".join(sys.argv[1:]))
 
 
 if __name__ == "__main__":

@@ -66,9 +66,12 @@ fn formulas(c: &mut Criterion) {
     let p = &info.presets[3];
     let sys = CvtPendulum::new(&info.preset_params(p));
     let overrides: Vec<(String, f64)> = p.params.iter().map(|(n, v)| (n.to_string(), *v)).collect();
-    let compiled =
-        CustomSystem::compile(&FormulaSpec::of(info).expect("a class built-in"), &overrides, &CustomLimits::default())
-            .expect("the formula form compiles");
+    let compiled = CustomSystem::compile(
+        &FormulaSpec::of(info).expect("a class built-in"),
+        &overrides,
+        &CustomLimits::default(),
+    )
+    .expect("the formula form compiles");
     let formulas = Custom::<3, 1>::new(compiled.class_compiled().expect("the class").clone());
     let (q, v) = (Vector::<3>::from_column_slice(p.q), Vector::<3>::from_column_slice(p.v));
     let start = State::with_continuous_multiplier(&sys, q, v).expect("preset is regular");

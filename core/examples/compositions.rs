@@ -17,7 +17,7 @@
 //! cargo run --release -p nhlab-core --example compositions -- cost
 //! ```
 
-use nhlab_core::measure::work_precision::{measure, reference};
+use nhlab_core::catalogue::work_precision::{measure, reference};
 use nhlab_core::systems::{CvtPendulum, KnifeEdge};
 use nhlab_core::{
     BuiltIn, Collect, Composition, Method, MethodSpec, RunConfig, Scene, SceneRequest, State,

@@ -32,10 +32,17 @@ fn run<S: BuiltIn<N, R>, const N: usize, const R: usize>(system: &str, run: &Run
     let sys = S::new(&info.preset_params(p));
     if run.formulas {
         let overrides: Vec<_> = p.params.iter().map(|(n, v)| (n.to_string(), *v)).collect();
-        let compiled =
-            CustomSystem::compile(&FormulaSpec::of(info).expect("a class built-in"), &overrides, &CustomLimits::default())
-                .expect("a built-in's formula form compiles");
-        steps_on(&Custom::<N, R>::new(compiled.class_compiled().expect("the class").clone()), p, run);
+        let compiled = CustomSystem::compile(
+            &FormulaSpec::of(info).expect("a class built-in"),
+            &overrides,
+            &CustomLimits::default(),
+        )
+        .expect("a built-in's formula form compiles");
+        steps_on(
+            &Custom::<N, R>::new(compiled.class_compiled().expect("the class").clone()),
+            p,
+            run,
+        );
     } else {
         steps_on(&sys, p, run);
     }

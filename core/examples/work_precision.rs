@@ -5,7 +5,7 @@
 //! scene,method,step,steps,elapsed_ms,final_error.
 //! `cargo run --release -p nhlab-core --example work_precision > target/wp_nhlab.csv`
 
-use nhlab_core::measure::work_precision::{measure, reference};
+use nhlab_core::catalogue::work_precision::{measure, reference};
 use nhlab_core::{Method, Scene, SceneRequest};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -36,7 +36,6 @@ pub use error::{InputError, RunError, Short, StepFailure};
 pub use measure::bucket::{Bucket, Bucketer};
 pub use measure::classify::{Verdict, VerdictKind, classify};
 pub use measure::gap::{Gap, GapReason};
-pub use model::integral::{Integral, MAX_INVARIANTS};
 pub use measure::properties::Properties;
 pub use measure::simulate::{Collect, Observer, Problem, RunConfig, RunOutcome};
 pub use methods::integrator::{Integrator, MethodInfo, Stepper};
@@ -45,6 +44,7 @@ pub use methods::{
     method_info, method_infos,
 };
 pub use model::custom::{CustomLimits, FormulaSpec, GeneralSpec};
+pub use model::integral::{Integral, MAX_INVARIANTS};
 pub use model::mechanical::{General, Mechanical};
 pub use model::state::State;
 pub use model::system::{BuiltIn, DriverTerms, ParamSpec, Preset, System, SystemInfo};

@@ -188,7 +188,8 @@ pub(crate) fn smallest_cholesky_pivot<const R: usize>(g: &Matrix<R, R>) -> f64 {
         for k in 0..j {
             d -= l[(j, k)] * l[(j, k)];
         }
-        if !(d > 0.0) {
+        // Not positive, or NaN: singular, or not positive definite.
+        if d.is_nan() || d <= 0.0 {
             return 0.0;
         }
         let d = d.sqrt();

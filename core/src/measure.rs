@@ -1,8 +1,9 @@
 //! What a run measures: the integrals' error series (the integrals are the model's,
 //! `model::integral`) and the hidden latitude ([`latitude`]), downsampled into buckets
-//! ([`bucket`]) and classified ([`classify`]), the driver that runs a method and streams the series to an observer
-//! ([`simulate`]), the measured properties of a method ([`properties`]), the reference
-//! solution ([`reference`]) and work–precision ([`work_precision`]).
+//! ([`bucket`]) and classified ([`classify`]); the driver that runs a method and streams the
+//! series to an observer ([`simulate`]), taking whole turns off an angle as it goes; the
+//! measured properties of a method ([`properties`]) and the reference solution
+//! ([`reference`]). Work–precision, which measures scenes, is the catalogue's.
 
 pub mod bucket;
 pub mod classify;
@@ -11,4 +12,4 @@ pub mod latitude;
 pub mod properties;
 pub mod reference;
 pub mod simulate;
-pub mod work_precision;
+mod whole_turns;

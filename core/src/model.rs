@@ -11,4 +11,3 @@ pub mod params;
 pub mod state;
 pub mod system;
 pub mod systems;
-mod whole_turns;

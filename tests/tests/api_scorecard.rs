@@ -84,10 +84,7 @@ async fn default_scorecard_reproduces_the_papers_tables() {
     assert!(card["criterion"].as_str().unwrap().contains("1e-10"));
     let methods: Vec<&str> =
         card["methods"].as_array().unwrap().iter().map(|m| m["label"].as_str().unwrap()).collect();
-    assert_eq!(
-        methods,
-        ["DLA^0.5", "DLA^0.4", "DLA^{0,1}", "LF", "DD", "DD-AVF", "RK4", "RATTLE"]
-    );
+    assert_eq!(methods, ["DLA^0.5", "DLA^0.4", "DLA^{0,1}", "LF", "DD", "DD-AVF", "RK4", "RATTLE"]);
     let scenes = card["scenes"].as_array().unwrap();
     let ids: Vec<&str> = scenes.iter().map(|s| s["id"].as_str().unwrap()).collect();
     assert_eq!(

@@ -5,7 +5,7 @@
 
 use super::registry::{SystemCode, SystemEntry, class_code, general_code};
 use crate::model::custom::{
-    Compiled, CustomLimits, Formulated, FormulaSpec, GeneralSpec, Invariants, MassSpec, Passenger,
+    Compiled, CustomLimits, FormulaSpec, Formulated, GeneralSpec, Invariants, MassSpec, Passenger,
     Structure,
 };
 use crate::model::system::{Form, SystemInfo};
@@ -76,10 +76,11 @@ impl CustomSystem {
         limits: &CustomLimits,
     ) -> Result<Self, InputError> {
         let compiled = Compiled::new(spec, overrides, limits)?;
-        let code = class_code(compiled.n + 1, compiled.r).ok_or_else(|| InputError::CustomSystem {
-            field: "system.passenger".into(),
-            message: "a system given as formulas needs at least 2 passenger coordinates".into(),
-        })?;
+        let code =
+            class_code(compiled.n + 1, compiled.r).ok_or_else(|| InputError::CustomSystem {
+                field: "system.passenger".into(),
+                message: "a system given as formulas needs at least 2 passenger coordinates".into(),
+            })?;
         let mut integrals =
             vec![Integral::Energy, Integral::PassengerEnergy, Integral::DriverEnergy];
         if compiled.latitude {
@@ -286,18 +287,26 @@ impl GeneralSpec {
         match &info.form {
             Form::General(spec) => spec(params),
             Form::Coupled(f) => {
-                let mut coordinates: Vec<String> = f.passenger.iter().map(|s| s.to_string()).collect();
+                let mut coordinates: Vec<String> =
+                    f.passenger.iter().map(|s| s.to_string()).collect();
                 coordinates.push(f.driver.into());
                 Ok(Self {
                     name: info.name.into(),
                     coordinates,
-                    parameters: info.params.iter().map(|p| p.name.to_string()).zip(params.iter().copied()).collect(),
+                    parameters: info
+                        .params
+                        .iter()
+                        .map(|p| p.name.to_string())
+                        .zip(params.iter().copied())
+                        .collect(),
                     mass: MassSpec::Identity,
                     potential: format!("({}) + ({})", f.passenger_potential, f.driver_potential),
                     constraints: f
                         .constraints
                         .iter()
-                        .map(|row| row.iter().map(|s| s.to_string()).chain(["0".to_string()]).collect())
+                        .map(|row| {
+                            row.iter().map(|s| s.to_string()).chain(["0".to_string()]).collect()
+                        })
                         .collect(),
                     invariants: Vec::new(),
                     detect_class: true,

@@ -13,14 +13,29 @@ use crate::measure::properties::{self, Properties};
 use crate::measure::reference::{self, ReferenceError};
 use crate::measure::simulate::{self, Observer, Problem, RunConfig, RunOutcome};
 use crate::model::custom::{Custom, GeneralCustom, Invariants, Structure};
+use crate::model::mechanical::GeneralBuiltIn;
 use crate::model::mechanical::{General, Mechanical};
-use crate::model::system::{BuiltIn, GeneralBuiltIn, System, SystemInfo};
+use crate::model::system::{BuiltIn, System, SystemInfo};
 use crate::{InputError, Integral, Method, RunError, State, StepFailure, Vector};
 use nalgebra::DMatrix;
 use std::marker::PhantomData;
 
 /// Every system, in listing order.
-pub static SYSTEMS: &[SystemEntry] = crate::with_systems!(entries);
+pub static SYSTEMS: &[SystemEntry] = crate::with_systems!(__system_entries);
+
+/// [`with_systems!`](crate::with_systems)'s callback that makes the registry's entries.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __system_entries {
+    (() [$(($m:ident, $t:ident, $n:literal, $r:literal)),* $(,)?]
+        [$(($gm:ident, $gt:ident, $gn:literal, $gr:literal)),* $(,)?] [$($f:ident),* $(,)?]) => {
+        &[
+            $($crate::catalogue::registry::SystemEntry::of::<$crate::systems::$t, $n, $r>(),)*
+            $($crate::catalogue::registry::SystemEntry::general::<$crate::systems::$gt, $gn, $gr>(),)*
+            $($crate::catalogue::registry::SystemEntry::formulas($crate::systems::$f::info),)*
+        ]
+    };
+}
 
 /// The paper's six experiments (`docs/model.md` §2) as (system, preset): its figure set,
 /// the scorecard's default scenes and the benchmarks' workload.
@@ -417,7 +432,8 @@ pub fn class_code(dof: usize, constraints: usize) -> Option<&'static SystemCode>
 /// `constraints` rows: its own size, or a padded one (`dof` ≥ 7: 12 coordinates, each added
 /// with a row of its own).
 pub fn general_code(dof: usize, constraints: usize) -> Option<&'static SystemCode> {
-    let (n, r) = if dof <= EXACT_MAX { (dof, constraints) } else { (PADDED, constraints + PADDED - dof) };
+    let (n, r) =
+        if dof <= EXACT_MAX { (dof, constraints) } else { (PADDED, constraints + PADDED - dof) };
     GENERAL_SIZES.iter().find(|c| c.dof == n && c.constraints == r)
 }
 

@@ -306,11 +306,17 @@ impl Scene {
         let system = match &entry.native {
             Some(_) => SceneSystem::BuiltIn(entry),
             None => {
-                let named: Vec<(String, f64)> =
-                    info.params.iter().map(|p| p.name.to_string()).zip(params.iter().copied()).collect();
-                SceneSystem::Custom(compiled.get_or_compile(Source::BuiltIn(info.id), &named, || {
-                    CustomSystem::built_in(entry, &params, limits)
-                })?)
+                let named: Vec<(String, f64)> = info
+                    .params
+                    .iter()
+                    .map(|p| p.name.to_string())
+                    .zip(params.iter().copied())
+                    .collect();
+                SceneSystem::Custom(compiled.get_or_compile(
+                    Source::BuiltIn(info.id),
+                    &named,
+                    || CustomSystem::built_in(entry, &params, limits),
+                )?)
             }
         };
         let dof = system.dof();

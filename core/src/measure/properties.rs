@@ -89,9 +89,8 @@ fn round_trips<M: Copy, const N: usize, const R: usize>(
     h: f64,
 ) -> Result<(f64, f64), StepFailure> {
     let (mut reversibility, mut symmetry): (f64, f64) = (0.0, 0.0);
-    let defect = |a: &State<N, R>, b: &State<N, R>| {
-        (a.q - b.q).amax().max((a.v - b.v).amax()) / scale(b)
-    };
+    let defect =
+        |a: &State<N, R>, b: &State<N, R>| (a.q - b.q).amax().max((a.v - b.v).amax()) / scale(b);
     for _ in 0..4 {
         let (start, memory) = point;
         let (mut st, mut mem) = (start, memory);
@@ -209,7 +208,8 @@ pub fn measure_general<S: Mechanical<N, R>, const N: usize, const R: usize>(
     start: State<N, R>,
     h: f64,
 ) -> Result<Properties, StepFailure> {
-    let step = |st: &mut State<N, R>, mem: &mut GeneralMemory<N, R>, h| m.step_general(sys, st, mem, h);
+    let step =
+        |st: &mut State<N, R>, mem: &mut GeneralMemory<N, R>, h| m.step_general(sys, st, mem, h);
     let (reversibility_defect, symmetry_defect) =
         round_trips(&step, (start, GeneralMemory::empty()), h)?;
     let (mut constraint_defect, mut st, mut memory): (f64, _, _) =

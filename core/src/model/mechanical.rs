@@ -9,8 +9,8 @@
 //! member of it is a `Mechanical` system through [`General`], which is how a method's general
 //! step runs on it (the general path the class's faster steps are tested against).
 
-use crate::model::system::System;
 use crate::linalg;
+use crate::model::system::{System, SystemInfo};
 use crate::{Matrix, Vector};
 
 /// The mass matrix M of a system: constant, symmetric, positive definite, with its inverse.
@@ -205,6 +205,16 @@ pub trait Mechanical<const N: usize, const R: usize>: Send + Sync {
     }
 }
 
+/// A system of the general class compiled into nhlab: its description, and its
+/// construction from parameter values.
+pub trait GeneralBuiltIn<const N: usize, const R: usize>: Mechanical<N, R> + Sized {
+    /// Its description.
+    fn info() -> &'static SystemInfo;
+    /// Builds it from parameter values given in the order of `info().params`, already
+    /// checked against their ranges.
+    fn new(params: &[f64]) -> Self;
+}
+
 /// A system of the paper's class ([`System`]) seen as a member of the general class: M = I,
 /// `V = U + V_d`, `A(q) = A(ζ)` with `∂A/∂ζ` its only nonzero partial derivative. Runs a
 /// method's general step on a class system (the general path; `docs/architecture.md`).
@@ -289,9 +299,11 @@ mod tests {
         let f = general.forces(&q);
         let m_g = f.gradient;
         let a_dot_v = general.derivatives(&q).constraint_jacobian(&v) * v;
-        let lambda =
-            linalg::solve(&(f.constraint * f.constraint.transpose()), &(f.constraint * m_g - a_dot_v))
-                .unwrap();
+        let lambda = linalg::solve(
+            &(f.constraint * f.constraint.transpose()),
+            &(f.constraint * m_g - a_dot_v),
+        )
+        .unwrap();
         let (_, class_lambda) = pendulum.acceleration(&q, &v).unwrap();
         assert!((lambda - class_lambda).amax() < 1e-14);
         let robot = MobileRobot;

@@ -8,7 +8,6 @@
 //! gradient and Hessian, the energies and the continuous multiplier are derived here once.
 
 use crate::model::custom::GeneralSpec;
-use crate::model::mechanical::Mechanical;
 use crate::{InputError, Integral, Matrix, Vector};
 
 /// One tunable parameter of a system or a method.
@@ -211,16 +210,6 @@ pub fn constraint_force<const N: usize, const R: usize>(
 /// values. (A system given as formulas is a [`System`] too, built from its compiled formulas:
 /// `model::custom`.)
 pub trait BuiltIn<const N: usize, const R: usize>: System<N, R> {
-    /// Its description.
-    fn info() -> &'static SystemInfo;
-    /// Builds it from parameter values given in the order of `info().params`, already
-    /// checked against their ranges.
-    fn new(params: &[f64]) -> Self;
-}
-
-/// A system of the general class compiled into nhlab: its description, and its
-/// construction from parameter values.
-pub trait GeneralBuiltIn<const N: usize, const R: usize>: Mechanical<N, R> + Sized {
     /// Its description.
     fn info() -> &'static SystemInfo;
     /// Builds it from parameter values given in the order of `info().params`, already

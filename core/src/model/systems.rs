@@ -10,13 +10,15 @@
 /// general class `(module, type, N, R)` (their type implements
 /// [`Mechanical`](crate::model::mechanical::Mechanical)), and built-ins given as formulas (a
 /// module with `fn info()` whose form is the general one; compiled per scene, the paper's
-/// class found in them where it holds). Expands `$crate::__apply_systems!` with the given arm
-/// and the list; use [`for_each_system!`](crate::for_each_system) rather than this.
+/// class found in them where it holds). `with_systems!(callback args)` expands
+/// `$crate::callback! { (args) [class…] [general…] [formulas…] }`: the declarations here, the
+/// registry's entries in the catalogue (`catalogue::registry`), the cross products of
+/// [`for_each_system!`](crate::for_each_system).
 #[doc(hidden)]
 #[macro_export]
 macro_rules! with_systems {
-    ($($how:tt)*) => {
-        $crate::__apply_systems! { ($($how)*) [
+    ($callback:ident $($args:tt)*) => {
+        $crate::$callback! { ($($args)*) [
             (knife_edge, KnifeEdge, 3, 1),
             (cvt_pendulum, CvtPendulum, 3, 1),
             (cvt, Cvt, 3, 1),
@@ -36,30 +38,35 @@ macro_rules! with_systems {
     };
 }
 
-/// What [`with_systems!`] expands to: the modules, the registry's entries, or one call per
-/// system.
+/// [`with_systems!`]'s callback that declares the systems' modules.
 #[doc(hidden)]
 #[macro_export]
-macro_rules! __apply_systems {
-    ((declare) [$(($m:ident, $t:ident, $n:literal, $r:literal)),* $(,)?]
+macro_rules! __declare_systems {
+    (() [$(($m:ident, $t:ident, $n:literal, $r:literal)),* $(,)?]
         [$(($gm:ident, $gt:ident, $gn:literal, $gr:literal)),* $(,)?] [$($f:ident),* $(,)?]) => {
         $(mod $m; pub use self::$m::$t;)*
         $(mod $gm; pub use self::$gm::$gt;)*
         $(pub(crate) mod $f;)*
     };
-    ((entries) [$(($m:ident, $t:ident, $n:literal, $r:literal)),* $(,)?]
-        [$(($gm:ident, $gt:ident, $gn:literal, $gr:literal)),* $(,)?] [$($f:ident),* $(,)?]) => {
-        &[
-            $($crate::catalogue::registry::SystemEntry::of::<$crate::systems::$t, $n, $r>(),)*
-            $($crate::catalogue::registry::SystemEntry::general::<$crate::systems::$gt, $gn, $gr>(),)*
-            $($crate::catalogue::registry::SystemEntry::formulas($crate::systems::$f::info),)*
-        ]
-    };
-    ((each $f:ident $args:tt) [$(($m:ident, $t:ident, $n:literal, $r:literal)),* $(,)?]
+}
+
+/// [`with_systems!`]'s callback that calls `f::<S, N, R>(args…)` for each built-in of the
+/// paper's class.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __each_system {
+    (($f:ident $args:tt) [$(($m:ident, $t:ident, $n:literal, $r:literal)),* $(,)?]
         $general:tt $formulas:tt) => {{
         $($f::<$crate::systems::$t, $n, $r> $args;)*
     }};
-    ((each_general $f:ident $args:tt) $class:tt
+}
+
+/// [`with_systems!`]'s callback that calls `f::<S, N, R>(args…)` for each built-in of the
+/// general class compiled into nhlab.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __each_general_system {
+    (($f:ident $args:tt) $class:tt
         [$(($gm:ident, $gt:ident, $gn:literal, $gr:literal)),* $(,)?] $formulas:tt) => {{
         $($f::<$crate::systems::$gt, $gn, $gr> $args;)*
     }};
@@ -71,7 +78,7 @@ macro_rules! __apply_systems {
 #[macro_export]
 macro_rules! for_each_system {
     ($f:ident $(, $arg:expr)* $(,)?) => {
-        $crate::with_systems!(each $f ($($arg),*))
+        $crate::with_systems!(__each_system $f ($($arg),*))
     };
 }
 
@@ -80,8 +87,8 @@ macro_rules! for_each_system {
 #[macro_export]
 macro_rules! for_each_general_system {
     ($f:ident $(, $arg:expr)* $(,)?) => {
-        $crate::with_systems!(each_general $f ($($arg),*))
+        $crate::with_systems!(__each_general_system $f ($($arg),*))
     };
 }
 
-crate::with_systems!(declare);
+crate::with_systems!(__declare_systems);

@@ -6,8 +6,8 @@
 
 use crate::common::{self, disk_exact, knife_exact};
 use nhlab_core::measure::properties;
-use nhlab_core::model::mechanical::General;
 use nhlab_core::measure::reference::reference;
+use nhlab_core::model::mechanical::General;
 use nhlab_core::systems::{Cvt, KnifeEdge, RollingDisk};
 use nhlab_core::{
     BuiltIn, Collect, Composition, InputError, Integral, Method, MethodSpec, PAPER_SCENES,

@@ -39,10 +39,13 @@ fn check<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
                 // Declared of full rank everywhere: sampled over two turns.
                 for k in 0..200 {
                     let a = sys.constraint(-TAU + k as f64 * 0.0628);
-                    let smallest = nalgebra::DMatrix::from_fn(R, N, |i, j| a[(i, j)])
-                        .singular_values()
-                        .min();
-                    assert!(smallest > 1e-3, "{id}: A loses rank near ζ = {}", -TAU + k as f64 * 0.0628);
+                    let smallest =
+                        nalgebra::DMatrix::from_fn(R, N, |i, j| a[(i, j)]).singular_values().min();
+                    assert!(
+                        smallest > 1e-3,
+                        "{id}: A loses rank near ζ = {}",
+                        -TAU + k as f64 * 0.0628
+                    );
                 }
             }
             let fd_a = (sys.constraint(z + H) - sys.constraint(z - H)) / (2.0 * H);

@@ -202,8 +202,15 @@ fn the_final_state_counts_the_turns_taken_off() {
         Vector::<3>::from_column_slice(p.v),
     )
     .unwrap();
-    let problem =
-        Problem { sys: &sys, start, step: 0.1, steps: 2000, integrals: &[], latitude: None, invariants: None };
+    let problem = Problem {
+        sys: &sys,
+        start,
+        step: 0.1,
+        steps: 2000,
+        integrals: &[],
+        latitude: None,
+        invariants: None,
+    };
     let dd = Dd::default();
     let mut end = Final::default();
     assert_eq!(run(&problem, &dd, &RunConfig::default(), &mut end).error, None);

@@ -5,9 +5,9 @@
 //! round-off, as it does on every system of the class.
 
 use crate::common;
-use nhlab_core::model::mechanical::General;
 use nhlab_core::measure::reference::reference_until;
 use nhlab_core::model::custom::Custom;
+use nhlab_core::model::mechanical::General;
 use nhlab_core::{
     CustomLimits, CustomSystem, FormulaSpec, Method, MethodSpec, State, System, Vector,
 };

@@ -84,7 +84,9 @@ fn built_ins_as_formulas_get_the_built_ins_verdicts_on_the_paper_scenes() {
         let resolved = Scene::resolve(&built_in).unwrap();
         let entry = SYSTEMS.iter().find(|s| s.info().id == system).unwrap();
         let as_formulas = SceneRequest {
-            system: SystemRequest::Formulas(FormulaSpec::of(entry.info()).expect("a class built-in")),
+            system: SystemRequest::Formulas(
+                FormulaSpec::of(entry.info()).expect("a class built-in"),
+            ),
             params: resolved.named_params().into_iter().map(|(n, v)| (n.to_string(), v)).collect(),
             q: Some(resolved.q.clone()),
             v: Some(resolved.v.clone()),

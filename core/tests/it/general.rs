@@ -3,15 +3,14 @@
 //! general form, and the literature's problems built in.
 
 use crate::common::{self, preset_start};
-use std::f64::consts::FRAC_PI_2;
 use nhlab_core::model::custom::{GeneralSpec, MassEntry, MassSpec, Structure};
 use nhlab_core::model::mechanical::General;
 use nhlab_core::{
     BuiltIn, Collect, CustomLimits, CustomSystem, GeneralMemory, InputError, Integral, Method,
-    Observer, RunError, StepFailure,
-    MethodSpec, PreparedScene, RunConfig, SYSTEMS, Scene, SceneRequest, SystemRequest, VerdictKind,
-    classify,
+    MethodSpec, Observer, PreparedScene, RunConfig, RunError, SYSTEMS, Scene, SceneRequest,
+    StepFailure, SystemRequest, VerdictKind, classify,
 };
+use std::f64::consts::FRAC_PI_2;
 
 /// Every method of the list that has a general step, with its default parameters.
 fn general_methods() -> Vec<Method> {
@@ -63,7 +62,9 @@ fn the_paper_s_class_is_found_in_its_systems_written_in_the_general_form() {
             Structure::Class { driver, .. } => {
                 assert_eq!(*driver, spec.coordinates.len() - 1, "{}", info.id)
             }
-            Structure::General(_) => panic!("{}: not found in the class: {:?}", info.id, c.not_class),
+            Structure::General(_) => {
+                panic!("{}: not found in the class: {:?}", info.id, c.not_class)
+            }
         }
         assert_eq!(c.integrals, info.integrals, "{}", info.id);
     }
@@ -143,7 +144,11 @@ fn run(scene: &PreparedScene, m: &Method) -> End {
 }
 
 fn distance(a: &End, b: &End) -> f64 {
-    a.q.iter().chain(&a.v).zip(b.q.iter().chain(&b.v)).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+    a.q.iter()
+        .chain(&a.v)
+        .zip(b.q.iter().chain(&b.v))
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }
 
 /// Each built-in of the paper's class, given in the general form (found in the class) and
@@ -157,7 +162,10 @@ fn class_systems_in_the_general_form_run_as_built_in() {
             let built_in = Scene::resolve(&request(info.id, preset.id)).unwrap();
             let t_end = (1000.0 * built_in.step).min(built_in.t_end);
             let as_formulas = |detect_class| SceneRequest {
-                system: SystemRequest::General(GeneralSpec { detect_class, ..general_form(info.id) }),
+                system: SystemRequest::General(GeneralSpec {
+                    detect_class,
+                    ..general_form(info.id)
+                }),
                 params: built_in.named_params().iter().map(|(n, v)| (n.to_string(), *v)).collect(),
                 q: Some(built_in.q.clone()),
                 v: Some(built_in.v.clone()),
@@ -170,7 +178,8 @@ fn class_systems_in_the_general_form_run_as_built_in() {
             let built_in = Scene::resolve(&short).unwrap().prepare(None).unwrap();
             let found = Scene::resolve(&as_formulas(true)).unwrap().prepare(None).unwrap();
             let forced = Scene::resolve(&as_formulas(false)).unwrap();
-            let integrals: Vec<String> = forced.system.integrals().iter().map(|i| i.id().to_owned()).collect();
+            let integrals: Vec<String> =
+                forced.system.integrals().iter().map(|i| i.id().to_owned()).collect();
             let forced = forced.prepare(Some(&integrals)).unwrap();
             assert!(found.scene.system.in_paper_class() && !forced.scene.system.in_paper_class());
             for m in Method::all() {
@@ -179,7 +188,8 @@ fn class_systems_in_the_general_form_run_as_built_in() {
                 let scale = a.q.iter().chain(&a.v).fold(1.0_f64, |s, x| s.max(x.abs()));
                 assert!(distance(&a, &b) <= 1e-12 * scale, "{case}: {:.1e}", distance(&a, &b));
                 for (i, series) in &a.collect.series {
-                    let verdict = |c: &Collect, s: &[nhlab_core::Bucket]| classify(s, c.initial[i]).kind;
+                    let verdict =
+                        |c: &Collect, s: &[nhlab_core::Bucket]| classify(s, c.initial[i]).kind;
                     assert_eq!(
                         verdict(&a.collect, series),
                         verdict(&b.collect, &b.collect.series[i]),
@@ -190,7 +200,11 @@ fn class_systems_in_the_general_form_run_as_built_in() {
                     // The forced run is the same map (the general step is the class step to
                     // round-off, above), up to the round-off the trajectory amplifies.
                     let c = run(&forced, &m);
-                    assert!(distance(&a, &c) <= 1e-9 * scale, "{case} forced: {:.1e}", distance(&a, &c));
+                    assert!(
+                        distance(&a, &c) <= 1e-9 * scale,
+                        "{case} forced: {:.1e}",
+                        distance(&a, &c)
+                    );
                 }
             }
         }
@@ -260,7 +274,10 @@ fn dd_keeps_the_energy_over_a_million_steps_off_the_class() {
         let h0 = end.collect.initial[&Integral::Energy];
         let series = &end.collect.series[&Integral::Energy];
         let worst = series.iter().map(|b| b.max).fold(0.0, f64::max);
-        assert!(worst <= 1e-12 * h0.abs().max(1.0), "{system}: DD's |H − H(0)| reached {worst:.1e}");
+        assert!(
+            worst <= 1e-12 * h0.abs().max(1.0),
+            "{system}: DD's |H − H(0)| reached {worst:.1e}"
+        );
         assert_eq!(classify(series, h0).kind, VerdictKind::Exact, "{system}");
     }
 }
@@ -282,7 +299,8 @@ fn rattle_is_dla01_s_map_and_symmetric_and_reversible() {
         let p = scene.scene.properties(&rattle).unwrap();
         assert!(p.symmetric && p.reversible, "{system}: {p:?}");
         assert!(p.constraint_defect < 1e-12, "{system}: {p:?}");
-        let p = scene.scene.properties(&Method::from_spec(&MethodSpec::new("rk4")).unwrap()).unwrap();
+        let p =
+            scene.scene.properties(&Method::from_spec(&MethodSpec::new("rk4")).unwrap()).unwrap();
         // RK4 leaves the constraint (and on the vertical disk, whose speeds are constant, it is
         // as symmetric as the flow).
         assert!(p.constraint_defect > 1e-9, "RK4 on {system}: {p:?}");
@@ -372,8 +390,10 @@ fn hostile_systems_are_refused_or_fail_typed() {
         }
     }
     // DD-AVF has no general step: refused with why.
-    let sleigh = Scene::resolve(&request("chaplygin_sleigh", "free")).unwrap().prepare(None).unwrap();
-    let e = sleigh.check_method(&Method::from_spec(&MethodSpec::new("dd_avf")).unwrap()).unwrap_err();
+    let sleigh =
+        Scene::resolve(&request("chaplygin_sleigh", "free")).unwrap().prepare(None).unwrap();
+    let e =
+        sleigh.check_method(&Method::from_spec(&MethodSpec::new("dd_avf")).unwrap()).unwrap_err();
     assert!(e.to_string().contains("chaplygin_sleigh is not in it"), "{e}");
 }
 
@@ -388,7 +408,17 @@ fn large_systems_run_and_padding_is_exact() {
         .join(" + ");
     assert!(potential.len() > 400);
     let row = |k: usize| -> Vec<String> {
-        (1..=12).map(|i| if i == k { "1".into() } else if i == k + 1 { format!("sin(q{})", k + 2) } else { "0".into() }).collect()
+        (1..=12)
+            .map(|i| {
+                if i == k {
+                    "1".into()
+                } else if i == k + 1 {
+                    format!("sin(q{})", k + 2)
+                } else {
+                    "0".into()
+                }
+            })
+            .collect()
     };
     let spec = GeneralSpec {
         coordinates: names.clone(),
@@ -428,8 +458,17 @@ fn large_systems_run_and_padding_is_exact() {
     let five = five.prepare(Some(&["energy".into()])).unwrap();
     for m in general_methods() {
         let (a, b) = (run(&five, &m), run(&seven, &m));
-        let d = a.q.iter().zip(&b.q).chain(a.v.iter().zip(&b.v)).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+        let d =
+            a.q.iter()
+                .zip(&b.q)
+                .chain(a.v.iter().zip(&b.v))
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
         assert!(d < 1e-12, "{}: {d:.1e}", m.label());
-        assert!(b.q[5..].iter().chain(&b.v[5..]).all(|x| *x == 0.0), "{}: the spectators moved", m.label());
+        assert!(
+            b.q[5..].iter().chain(&b.v[5..]).all(|x| *x == 0.0),
+            "{}: the spectators moved",
+            m.label()
+        );
     }
 }

@@ -4,8 +4,8 @@
 
 use nhlab_core::BuiltIn;
 use nhlab_core::Vector;
-use nhlab_core::model::mechanical::General;
 use nhlab_core::measure::reference::{TOL, reference};
+use nhlab_core::model::mechanical::General;
 use nhlab_core::systems::{CvtPendulum, KnifeEdge, RollingDisk};
 use std::f64::consts::FRAC_PI_2;
 
@@ -13,7 +13,8 @@ use std::f64::consts::FRAC_PI_2;
 fn matches_the_exact_knife_edge_solution() {
     let sys = KnifeEdge::new(&[0.0]);
     let t = 100.0;
-    let r = reference(&General(&sys),
+    let r = reference(
+        &General(&sys),
         &Vector::<3>::new(0.0, 0.0, FRAC_PI_2),
         &Vector::<3>::new(0.0, 0.0, 1.0),
         t,
@@ -31,7 +32,8 @@ fn matches_the_exact_knife_edge_solution() {
 
 #[test]
 fn matches_the_exact_rolling_disk_solution() {
-    let r = reference(&General(&RollingDisk),
+    let r = reference(
+        &General(&RollingDisk),
         &Vector::<4>::zeros(),
         &Vector::<4>::new(-1.0, 0.0, 1.0, 1.0),
         50.0,

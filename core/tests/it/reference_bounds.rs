@@ -3,10 +3,10 @@
 
 use nhlab_core::BuiltIn;
 use nhlab_core::Vector;
-use nhlab_core::model::mechanical::General;
 use nhlab_core::measure::reference::{
     CHUNK, ReferenceError, STOP_EVERY, TOL, reference, reference_until,
 };
+use nhlab_core::model::mechanical::General;
 use nhlab_core::systems::{Cvt, CvtPendulum};
 use std::cell::Cell;
 
@@ -35,7 +35,10 @@ fn a_stop_that_turns_true_at_the_kth_look_cancels_the_solve() {
         calls.set(calls.get() + 1);
         calls.get() >= 2
     };
-    assert_eq!(reference_until(&General(&sys), &q, &v, 3000.0, TOL, &stop), Err(ReferenceError::Cancelled));
+    assert_eq!(
+        reference_until(&General(&sys), &q, &v, 3000.0, TOL, &stop),
+        Err(ReferenceError::Cancelled)
+    );
     assert_eq!(calls.get(), 2);
 }
 

@@ -45,15 +45,12 @@ fn step_sweep_every_method_every_system() {
                     ..Default::default()
                 };
                 let scene = Scene::resolve(&req).unwrap();
-                let energies: Vec<String> = [
-                    Integral::Energy,
-                    Integral::PassengerEnergy,
-                    Integral::DriverEnergy,
-                ]
-                .into_iter()
-                .filter(|i| scene.system.integrals().contains(i))
-                .map(|i| i.id().to_owned())
-                .collect();
+                let energies: Vec<String> =
+                    [Integral::Energy, Integral::PassengerEnergy, Integral::DriverEnergy]
+                        .into_iter()
+                        .filter(|i| scene.system.integrals().contains(i))
+                        .map(|i| i.id().to_owned())
+                        .collect();
                 let scene = scene.prepare(Some(&energies)).unwrap();
                 if scene.check_method(m).is_err() {
                     continue;

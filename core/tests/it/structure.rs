@@ -89,8 +89,7 @@ fn dd_energy_error<S: BuiltIn<N, R>, const N: usize, const R: usize>(
     steps: u64,
     m: &Method,
 ) -> (f64, f64) {
-    let problem =
-        Problem {
+    let problem = Problem {
         sys,
         start,
         step: h,
@@ -100,7 +99,8 @@ fn dd_energy_error<S: BuiltIn<N, R>, const N: usize, const R: usize>(
         invariants: None,
     };
     let mut watch = EnergyWatch::default();
-    let out = run_method(&problem, m, &RunConfig { points: 100, ..RunConfig::default() }, &mut watch);
+    let out =
+        run_method(&problem, m, &RunConfig { points: 100, ..RunConfig::default() }, &mut watch);
     assert_eq!(out.error, None);
     (watch.worst / watch.initial.abs().max(watch.kinetic_end), watch.zeta_end)
 }

@@ -2,7 +2,7 @@
 //! integrals' maxima are reported; a stop flag ends a measurement; a scene prepared with a
 //! given latitude axis uses it.
 
-use nhlab_core::measure::work_precision::{measure, measure_until, reference};
+use nhlab_core::catalogue::work_precision::{measure, measure_until, reference};
 use nhlab_core::{Integral, Method, MethodSpec, Scene, SceneRequest};
 
 #[test]

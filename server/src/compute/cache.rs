@@ -14,9 +14,9 @@
 //! Hits, misses and sizes are reported by `GET /health` as `cache`.
 
 use crate::views::{CacheStats, CachesStats};
+use nhlab_core::catalogue::work_precision::ReferenceSummary;
 use nhlab_core::measure::latitude::LatitudeAxis;
 use nhlab_core::measure::reference::ReferenceError;
-use nhlab_core::measure::work_precision::ReferenceSummary;
 use nhlab_core::{InputError, Scene};
 use std::collections::{HashMap, VecDeque};
 use std::hash::Hash;

@@ -262,7 +262,9 @@ impl AnyForm {
                 coordinates,
                 parameters: self.parameters,
                 mass: self.mass,
-                potential: self.potential.ok_or("missing field `potential` (V(q); \"0\" for none)")?,
+                potential: self
+                    .potential
+                    .ok_or("missing field `potential` (V(q); \"0\" for none)")?,
                 constraints: self.constraints,
                 invariants: self.invariants,
                 detect_class: self.detect_class.unwrap_or(true),

@@ -174,7 +174,11 @@ async fn run(
             let Some(handle) = handle else {
                 let why = plan.not_applicable[i].clone().unwrap_or_default();
                 let summary = RunSummary::not_applicable(method.clone(), why);
-                out.push(ScorecardRun { summary, verdicts: Default::default(), gaps: Default::default() });
+                out.push(ScorecardRun {
+                    summary,
+                    verdicts: Default::default(),
+                    gaps: Default::default(),
+                });
                 continue;
             };
             let finished = handle.await.map_err(|e| AppError::internal(format!("run {i}: {e}")))?;

@@ -150,7 +150,11 @@ async fn run(
     let handles: Vec<_> = (0..plan.methods.len())
         .map(|i| {
             let names = IntegralNames::of(&plan.prepared);
-            runner.spawn(plan, i, JsonCollector::new(&plan.prepared.integrals, names, cancel.clone()))
+            runner.spawn(
+                plan,
+                i,
+                JsonCollector::new(&plan.prepared.integrals, names, cancel.clone()),
+            )
         })
         .collect();
     let mut finished = Vec::with_capacity(handles.len());

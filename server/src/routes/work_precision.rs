@@ -25,8 +25,8 @@ use crate::state::AppState;
 use crate::views::{ReferenceView, Status, WorkPrecisionResponse, WorkPrecisionRow};
 use axum::Json;
 use axum::extract::State;
+use nhlab_core::catalogue::work_precision::{measure_until, reference_until};
 use nhlab_core::measure::reference::{ReferenceError, TOL};
-use nhlab_core::measure::work_precision::{measure_until, reference_until};
 use nhlab_core::{Scene, SceneRequest, Short};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -235,7 +235,9 @@ fn compute(job: &Job, caches: &Caches, cancel: &Cancel) -> Result<WorkPrecisionR
             let max_error = prepared
                 .integrals
                 .iter()
-                .map(|i| (prepared.integral_name(*i), row.max_error.get(i).copied().and_then(finite)))
+                .map(|i| {
+                    (prepared.integral_name(*i), row.max_error.get(i).copied().and_then(finite))
+                })
                 .collect();
             rows.push(WorkPrecisionRow {
                 method: view.clone(),

@@ -11,8 +11,8 @@ use nhlab_core::catalogue::registry::LITERATURE_SCENES;
 use nhlab_core::model::custom::Structure;
 use nhlab_core::model::system::Form;
 use nhlab_core::{
-    Composition, FormulaSpec, GeneralSpec, Method, PAPER_SCENES, ParamSpec, Preset, SYSTEMS,
-    Scene, SceneRequest, SystemEntry, method_infos,
+    Composition, FormulaSpec, GeneralSpec, Method, PAPER_SCENES, ParamSpec, Preset, SYSTEMS, Scene,
+    SceneRequest, SystemEntry, method_infos,
 };
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -305,7 +305,12 @@ impl SystemView {
             dof: general.coordinates.len(),
             constraints: general.constraints.len(),
             params: info.params.iter().map(ParamView::of).collect(),
-            integrals: scene.system.integrals().iter().map(|&i| prepared.integral_name(i)).collect(),
+            integrals: scene
+                .system
+                .integrals()
+                .iter()
+                .map(|&i| prepared.integral_name(i))
+                .collect(),
             presets: info.presets.iter().map(PresetView::of).collect(),
             formulas: FormulaSpec::of(info).as_ref().map(FormulaSystem::of),
             general: GeneralSystem::of(&general),

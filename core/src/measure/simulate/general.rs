@@ -5,8 +5,8 @@
 //! run.
 
 use super::invariant_series::InvariantSeries;
+use super::problem::{Observer, Problem, RunConfig, RunOutcome, failure_of};
 use super::rank::Rank;
-use super::{Observer, Problem, RunConfig, RunOutcome, failure_of};
 use crate::measure::bucket::Lanes;
 use crate::methods::general_memory::GeneralMemory;
 use crate::methods::integrator::{GeneralStepper, Stepper};

@@ -1,7 +1,7 @@
 //! [`InvariantSeries`]: the error series `|I(t) − I(0)|` of a system's invariants asked for,
 //! bucketed together, beside a run's other series (class and general runs alike).
 
-use super::{Observer, Problem, RunConfig};
+use super::problem::{Observer, Problem, RunConfig};
 use crate::measure::bucket::Lanes;
 use crate::model::custom::Invariants;
 use crate::{Integral, MAX_INVARIANTS, StepFailure, Vector};

@@ -44,7 +44,7 @@ impl Rank {
             return Err(lost);
         }
         let reversed = linalg::determinant(&(a * before.transpose()));
-        if smallest < RANK_NEAR * self.initial && !(reversed > 0.0) {
+        if smallest < RANK_NEAR * self.initial && (reversed.is_nan() || reversed <= 0.0) {
             return Err(lost);
         }
         Ok(())
@@ -55,4 +55,3 @@ impl Rank {
 fn smallest_singular_value<const N: usize, const R: usize>(a: &Matrix<R, N>) -> f64 {
     nalgebra::DMatrix::from_row_slice(R, N, a.transpose().as_slice()).singular_values().min()
 }
-

@@ -207,7 +207,10 @@ impl Compiled {
     /// in `driver` (variable 0: ζ), the parameters' values already in place. What
     /// [`Compiled::new`] parses, or what a system given in the general form is found to be
     /// (`model::custom::detect`).
-    pub(crate) fn from_graphs(graphs: ClassGraphs, limits: &CustomLimits) -> Result<Self, InputError> {
+    pub(crate) fn from_graphs(
+        graphs: ClassGraphs,
+        limits: &CustomLimits,
+    ) -> Result<Self, InputError> {
         let ClassGraphs { n, r, values, passenger: mut pg, u, driver: mut dg, vd, a } = graphs;
         let lim = &limits.formula;
         let too_large = || InputError::Formula {

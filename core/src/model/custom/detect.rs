@@ -8,9 +8,9 @@
 
 use super::compile::{ClassGraphs, Compiled};
 use super::spec::{CustomLimits, MAX_PASSENGERS};
+use crate::InputError;
 use crate::formula::derive::Derivative;
 use crate::formula::{Graph, Id};
-use crate::InputError;
 use std::collections::HashMap;
 
 /// The driver found: its index among the user's coordinates.
@@ -104,11 +104,11 @@ pub(crate) fn class_compilation(
         .into_iter()
         .find(|&c| g.eval(v, &vec![c; n]).is_finite())
         .ok_or_else(|| InputError::CustomSystem {
-            field: "system.potential".into(),
-            message: "V is not finite at any of q = 0, 1, 0.5, 2, −1 (every coordinate), where \
+        field: "system.potential".into(),
+        message: "V is not finite at any of q = 0, 1, 0.5, 2, −1 (every coordinate), where \
                       nhlab splits it into the passengers' and the driver's parts"
-                .into(),
-        })?;
+            .into(),
+    })?;
     let passenger_index = |j: u16| (j as usize) - usize::from(j as usize > driver);
     let mut passenger = Graph::new();
     let u = passenger.import(

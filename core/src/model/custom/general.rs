@@ -10,11 +10,11 @@ use super::detect::{self, ClassFound};
 use super::general_spec::{GeneralSpec, MAX_COORDINATES, MassEntry, MassSpec};
 use super::invariants::Invariants;
 use super::spec::CustomLimits;
+use crate::InputError;
 use crate::formula::derive::Derivative;
 use crate::formula::parse::{Name, Names, parse};
 use crate::formula::{FormulaError, Function, Graph, Id, Tape};
 use crate::model::integral::{Integral, MAX_INVARIANTS};
-use crate::InputError;
 use nalgebra::DMatrix;
 use std::sync::Arc;
 
@@ -115,7 +115,10 @@ impl Names for Scope<'_> {
             names.extend(self.spec.coordinates.iter().map(String::as_str));
         }
         names.extend(self.spec.parameters.iter().map(|(p, _)| p.as_str()));
-        format!("it may name {} and pi", if names.is_empty() { "no name".into() } else { names.join(", ") })
+        format!(
+            "it may name {} and pi",
+            if names.is_empty() { "no name".into() } else { names.join(", ") }
+        )
     }
 }
 
@@ -151,7 +154,8 @@ impl Formulated {
         };
         let (structure, not_class, order) = match found {
             Ok(ClassFound { driver }) => {
-                let compiled = detect::class_compilation(&g, v, &a, (n, m), driver, &values, limits)?;
+                let compiled =
+                    detect::class_compilation(&g, v, &a, (n, m), driver, &values, limits)?;
                 let order: Vec<usize> = (0..n).filter(|&i| i != driver).chain([driver]).collect();
                 (Structure::Class { compiled: Arc::new(compiled), driver }, None, order)
             }
@@ -351,7 +355,10 @@ fn check_shape(spec: &GeneralSpec, limits: &CustomLimits) -> Result<(usize, usiz
         if row.len() != n {
             return Err(bad(
                 format!("system.constraints[{i}]"),
-                format!("each constraint row has one entry per coordinate ({n}), got {}", row.len()),
+                format!(
+                    "each constraint row has one entry per coordinate ({n}), got {}",
+                    row.len()
+                ),
             ));
         }
     }
@@ -368,7 +375,10 @@ fn check_shape(spec: &GeneralSpec, limits: &CustomLimits) -> Result<(usize, usiz
     if spec.invariants.len() > MAX_INVARIANTS {
         return Err(bad(
             "system.invariants",
-            format!("at most {MAX_INVARIANTS} invariants are allowed, got {}", spec.invariants.len()),
+            format!(
+                "at most {MAX_INVARIANTS} invariants are allowed, got {}",
+                spec.invariants.len()
+            ),
         ));
     }
     let mut seen: Vec<String> = Vec::new();

@@ -89,7 +89,9 @@ impl GeneralSpec {
 
     /// With a diagonal mass of these formulas.
     pub fn with_diagonal_mass(mut self, diagonal: &[&str]) -> Self {
-        self.mass = MassSpec::Diagonal(diagonal.iter().map(|s| MassEntry::Formula(s.to_string())).collect());
+        self.mass = MassSpec::Diagonal(
+            diagonal.iter().map(|s| MassEntry::Formula(s.to_string())).collect(),
+        );
         self
     }
 

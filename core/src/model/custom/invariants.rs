@@ -5,10 +5,10 @@
 
 use super::general_spec::GeneralSpec;
 use super::spec::CustomLimits;
+use crate::InputError;
 use crate::formula::parse::{Name, Names, parse};
 use crate::formula::{Function, Graph, Tape};
 use crate::model::integral::MAX_INVARIANTS;
-use crate::InputError;
 
 /// See the module's doc.
 #[derive(Debug)]

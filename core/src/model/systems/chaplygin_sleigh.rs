@@ -8,8 +8,8 @@
 //! Free (g = 0) it turns ever slower and tends to straight motion; g tilts the plane.
 
 use crate::model::custom::{GeneralSpec, MassEntry, MassSpec};
-use crate::model::mechanical::{Derivatives, Forces, Mass, Mechanical};
-use crate::model::system::{Form, GeneralBuiltIn, ParamSpec, Preset, SystemInfo};
+use crate::model::mechanical::{Derivatives, Forces, GeneralBuiltIn, Mass, Mechanical};
+use crate::model::system::{Form, ParamSpec, Preset, SystemInfo};
 use crate::{InputError, Integral, Matrix, Vector};
 
 /// The sleigh with mass m, inertia I about its centre of mass, knife edge at distance a

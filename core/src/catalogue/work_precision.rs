@@ -77,8 +77,7 @@ pub fn reference_until(
 ) -> Result<ReferenceSummary, ReferenceError> {
     let t = Instant::now();
     if let Some((q, v)) = scene.scene.exact() {
-        let state =
-            ReferenceState { q, v, constraint_residual: 0.0, evaluations: 0, steps: 0 };
+        let state = ReferenceState { q, v, constraint_residual: 0.0, evaluations: 0, steps: 0 };
         return Ok(ReferenceSummary { state, elapsed_ms: 0.0, exact: true });
     }
     let state = scene.scene.reference_until(TOL, stop)?;

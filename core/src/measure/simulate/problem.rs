@@ -1,0 +1,111 @@
+//! What a run is and how it reports, shared by the class's run loop and the general one:
+//! the [`Problem`] (system, start, step, what to measure), the [`Observer`] that receives
+//! the series, the [`RunConfig`] and the [`RunOutcome`]; and the test that ends a run whose
+//! state has diverged ([`failure_of`]).
+
+use crate::measure::latitude::LatitudeAxis;
+use crate::model::custom::Invariants;
+use crate::{Bucket, Gap, Integral, RunError, State, StepFailure};
+use std::ops::ControlFlow;
+
+/// Watches a run (argmin-style observer): receives completed buckets and progress, and may
+/// stop the run.
+pub trait Observer {
+    /// The initial value `I(0)` of a series, before any bucket (the verdict's scale).
+    fn initial(&mut self, _integral: Integral, _value: f64) {}
+    /// A completed bucket of one integral's error series.
+    fn points(&mut self, integral: Integral, bucket: Bucket);
+    /// A series that has no values from some time on, in a run that reached t_end (called
+    /// once per such series, before [`Observer::finish`]).
+    fn gap(&mut self, _integral: Integral, _gap: Gap) {}
+    /// The final state of a run that reached t_end (work–precision measures it).
+    fn finish(&mut self, _q: &[f64], _v: &[f64]) {}
+    /// Called every [`RunConfig::progress_every`] steps; `Break` cancels the run.
+    fn progress(&mut self, _steps_done: u64, _t: f64) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+}
+
+/// An observer that collects every series in memory (tests, JSON responses).
+#[derive(Debug, Clone, Default)]
+pub struct Collect {
+    /// Buckets per integral, in arrival order.
+    pub series: std::collections::BTreeMap<Integral, Vec<Bucket>>,
+    /// `I(0)` per integral.
+    pub initial: std::collections::BTreeMap<Integral, f64>,
+    /// Series' gaps, by integral.
+    pub gaps: std::collections::BTreeMap<Integral, Gap>,
+}
+
+impl Observer for Collect {
+    fn initial(&mut self, integral: Integral, value: f64) {
+        self.initial.insert(integral, value);
+    }
+    fn points(&mut self, integral: Integral, bucket: Bucket) {
+        self.series.entry(integral).or_default().push(bucket);
+    }
+    fn gap(&mut self, integral: Integral, gap: Gap) {
+        self.gaps.insert(integral, gap);
+    }
+}
+
+/// How a run reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunConfig {
+    /// Buckets per series.
+    pub points: usize,
+    /// Steps between progress calls.
+    pub progress_every: u64,
+}
+
+impl Default for RunConfig {
+    fn default() -> Self {
+        Self { points: 1000, progress_every: 4096 }
+    }
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOutcome {
+    /// Steps completed.
+    pub steps: u64,
+    /// Why it ended early, if it did.
+    pub error: Option<RunError>,
+}
+
+/// What to integrate and what to measure.
+#[derive(Debug, Clone)]
+pub struct Problem<'a, S, const N: usize, const R: usize> {
+    /// The system.
+    pub sys: &'a S,
+    /// Initial state (with the continuous multiplier).
+    pub start: State<N, R>,
+    /// Step size h.
+    pub step: f64,
+    /// Number of steps.
+    pub steps: u64,
+    /// Integrals whose error series are wanted.
+    pub integrals: &'a [Integral],
+    /// The monodromy axis, when the latitude is wanted.
+    pub latitude: Option<LatitudeAxis>,
+    /// The system's invariants, when any is wanted.
+    pub invariants: Option<&'a Invariants>,
+}
+
+/// A state beyond this size has lost every digit that matters: the run has diverged.
+pub const DIVERGED: f64 = 1e100;
+
+/// Why a state ends its run, if it does: not finite, or beyond [`DIVERGED`]. One test
+/// catches NaN, infinity and blow-up.
+#[inline]
+pub(crate) fn failure_of<const N: usize, const R: usize>(st: &State<N, R>) -> Option<StepFailure> {
+    let size = st.q.norm_squared() + st.v.norm_squared() + st.lambda.norm_squared();
+    if size.is_nan() || size > DIVERGED * DIVERGED {
+        return Some(if size.is_nan() || !st.is_finite() {
+            StepFailure::NonFinite
+        } else {
+            StepFailure::Diverged { limit: DIVERGED }
+        });
+    }
+    None
+}
