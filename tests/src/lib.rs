@@ -98,6 +98,26 @@ impl TestServer {
     }
 }
 
+impl TestServer {
+    /// Posts `body` to `/simulate` and checks that it is a 422 at `path` whose message
+    /// mentions each of `mentions`.
+    pub async fn rejected(&self, body: &Value, path: &str, mentions: &[&str]) {
+        let (status, error) = self.post_json("/simulate", body).await;
+        assert_eq!(status, 422, "{body}: {error}");
+        assert_eq!(error["path"], path, "{error}");
+        let message = error["error"].as_str().unwrap();
+        for m in mentions {
+            assert!(message.contains(m), "'{message}' does not mention '{m}'");
+        }
+    }
+}
+
+/// `body` with `f` applied to its `system` object.
+pub fn with_system(mut body: Value, f: impl FnOnce(&mut Value)) -> Value {
+    f(&mut body["system"]);
+    body
+}
+
 impl Drop for TestServer {
     fn drop(&mut self) {
         self.task.abort();

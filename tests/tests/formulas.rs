@@ -2,7 +2,7 @@
 //! built-ins' numbers, a new system runs, and every way to get one wrong is a 4xx that
 //! names the field (`system.constraints[0][1]`), the position in the formula and why.
 
-use nhlab_tests::TestServer;
+use nhlab_tests::{TestServer, with_system};
 use serde_json::{Value, json};
 
 /// The example: a skate in a bowl.
@@ -14,22 +14,6 @@ fn bowl() -> Value {
                       "driver_potential": "0",
                       "constraints": [["-sin(theta)", "cos(theta) - eps"]]},
            "q": [0, 0, std::f64::consts::FRAC_PI_2], "v": [0, 0, 1], "step": 0.1, "t_end": 100})
-}
-
-/// `body` with `f` applied to its system object.
-fn with(mut body: Value, f: impl FnOnce(&mut Value)) -> Value {
-    f(&mut body["system"]);
-    body
-}
-
-async fn rejected(s: &TestServer, body: &Value, path: &str, mentions: &[&str]) {
-    let (status, error) = s.post_json("/simulate", body).await;
-    assert_eq!(status, 422, "{body}: {error}");
-    assert_eq!(error["path"], path, "{error}");
-    let message = error["error"].as_str().unwrap();
-    for m in mentions {
-        assert!(message.contains(m), "'{message}' does not mention '{m}'");
-    }
 }
 
 #[tokio::test]
@@ -111,90 +95,92 @@ async fn formula_errors_name_the_field_the_position_and_the_reason() {
     let s = TestServer::start().await;
     let cases: Vec<(Value, &str, Vec<&str>)> = vec![
         (
-            with(bowl(), |s| s["passenger_potential"] = json!("k*(x^2 + y^2))")),
+            with_system(bowl(), |s| s["passenger_potential"] = json!("k*(x^2 + y^2))")),
             "system.passenger_potential",
             vec!["unexpected ')' at 14"],
         ),
         (
-            with(bowl(), |s| s["passenger_potential"] = json!("k*(x^2 + y^2")),
+            with_system(bowl(), |s| s["passenger_potential"] = json!("k*(x^2 + y^2")),
             "system.passenger_potential",
             vec!["end of formula"],
         ),
         (
-            with(bowl(), |s| s["driver_potential"] = json!("sinn(theta)")),
+            with_system(bowl(), |s| s["driver_potential"] = json!("sinn(theta)")),
             "system.driver_potential",
             vec!["unknown function 'sinn'", "sin"],
         ),
         (
-            with(bowl(), |s| s["passenger_potential"] = json!("z^2")),
+            with_system(bowl(), |s| s["passenger_potential"] = json!("z^2")),
             "system.passenger_potential",
             vec!["unknown variable 'z'", "x, y, eps, k"],
         ),
         (
-            with(bowl(), |s| s["constraints"][0][1] = json!("cos(theta) - x")),
+            with_system(bowl(), |s| s["constraints"][0][1] = json!("cos(theta) - x")),
             "system.constraints[0][1]",
             vec!["'x' is a passenger coordinate", "driver"],
         ),
         (
-            with(bowl(), |s| s["passenger_potential"] = json!("x^2 + theta")),
+            with_system(bowl(), |s| s["passenger_potential"] = json!("x^2 + theta")),
             "system.passenger_potential",
             vec!["'theta' is the driver"],
         ),
         (
-            with(bowl(), |s| s["driver_potential"] = json!("x*theta")),
+            with_system(bowl(), |s| s["driver_potential"] = json!("x*theta")),
             "system.driver_potential",
             vec!["'x' is a passenger coordinate"],
         ),
         (
-            with(bowl(), |s| s["driver_potential"] = json!("nan")),
+            with_system(bowl(), |s| s["driver_potential"] = json!("nan")),
             "system.driver_potential",
             vec!["unknown variable 'nan'"],
         ),
         (
-            with(bowl(), |s| s["driver_potential"] = json!("1e999")),
+            with_system(bowl(), |s| s["driver_potential"] = json!("1e999")),
             "system.driver_potential",
             vec!["'1e999' at 1 is not a finite number"],
         ),
         (
-            with(bowl(), |s| s["driver_potential"] = json!("")),
+            with_system(bowl(), |s| s["driver_potential"] = json!("")),
             "system.driver_potential",
             vec!["empty"],
         ),
         (
-            with(bowl(), |s| {
+            with_system(bowl(), |s| {
                 s["driver_potential"] = json!(format!("{}theta{}", "(".repeat(65), ")".repeat(65)))
             }),
             "system.driver_potential",
             vec!["deeper than 64"],
         ),
         (
-            with(bowl(), |s| s["driver_potential"] = json!(format!("theta{}", "+1".repeat(1000)))),
+            with_system(bowl(), |s| {
+                s["driver_potential"] = json!(format!("theta{}", "+1".repeat(1000)))
+            }),
             "system.driver_potential",
             vec!["2005 characters", "2000"],
         ),
         (
-            with(bowl(), |s| s["constraints"] = json!([["1", "0"], ["0", "1"]])),
+            with_system(bowl(), |s| s["constraints"] = json!([["1", "0"], ["0", "1"]])),
             "system.constraints",
             vec!["1 to n − 1 = 1"],
         ),
         (
-            with(bowl(), |s| s["constraints"] = json!([["1"]])),
+            with_system(bowl(), |s| s["constraints"] = json!([["1"]])),
             "system.constraints[0]",
             vec!["one entry per passenger coordinate (2)"],
         ),
         (
-            with(bowl(), |s| s["passenger"] = json!(["x", "sin"])),
+            with_system(bowl(), |s| s["passenger"] = json!(["x", "sin"])),
             "system.passenger[1]",
             vec!["not a usable name"],
         ),
-        (with(bowl(), |s| s["driver"] = json!("x")), "system.driver", vec!["named twice"]),
+        (with_system(bowl(), |s| s["driver"] = json!("x")), "system.driver", vec!["named twice"]),
         (
-            with(bowl(), |s| s["passenger"] = json!(["a", "b", "c", "d", "e", "f", "g"])),
+            with_system(bowl(), |s| s["passenger"] = json!(["a", "b", "c", "d", "e", "f", "g"])),
             "system.passenger",
             vec!["1 to 6"],
         ),
         (
-            with(bowl(), |s| {
+            with_system(bowl(), |s| {
                 let params: serde_json::Map<String, Value> =
                     (0..17).map(|i| (format!("p{i}"), json!(1.0))).collect();
                 s["parameters"] = Value::Object(params);
@@ -204,35 +190,36 @@ async fn formula_errors_name_the_field_the_position_and_the_reason() {
         ),
     ];
     for (body, path, mentions) in cases {
-        rejected(&s, &body, path, &mentions).await;
+        s.rejected(&body, path, &mentions).await;
     }
     // Rank: A = [−sin θ, cos θ − 1] vanishes at θ = 0.
-    let mut body = with(bowl(), |s| s["constraints"] = json!([["-sin(theta)", "cos(theta) - 1"]]));
+    let mut body =
+        with_system(bowl(), |s| s["constraints"] = json!([["-sin(theta)", "cos(theta) - 1"]]));
     body["q"] = json!([0, 0, 0]);
-    rejected(&s, &body, "system.constraints", &["loses rank", "smallest singular value"]).await;
+    s.rejected(&body, "system.constraints", &["loses rank", "smallest singular value"]).await;
     // Division by zero at the start.
-    let mut body = with(bowl(), |s| s["driver_potential"] = json!("1/(theta - pi/2)"));
+    let mut body = with_system(bowl(), |s| s["driver_potential"] = json!("1/(theta - pi/2)"));
     body["q"] = json!([0, 0, std::f64::consts::FRAC_PI_2]);
-    rejected(&s, &body, "system.driver_potential", &["V_d is inf"]).await;
+    s.rejected(&body, "system.driver_potential", &["V_d is inf"]).await;
     // No presets, and q and v are required.
     let mut body = bowl();
     body["preset"] = json!("paper");
-    rejected(&s, &body, "preset", &["no presets"]).await;
+    s.rejected(&body, "preset", &["no presets"]).await;
     let mut body = bowl();
     body.as_object_mut().unwrap().remove("q");
-    rejected(&s, &body, "q", &["required", "3 numbers"]).await;
+    s.rejected(&body, "q", &["required", "3 numbers"]).await;
     let mut body = bowl();
     body["params"] = json!({"kk": 1});
-    rejected(&s, &body, "params.kk", &["unknown parameter 'kk'", "eps, k"]).await;
+    s.rejected(&body, "params.kk", &["unknown parameter 'kk'", "eps, k"]).await;
     // The latitude where it is undefined: U not |x|²/2.
-    let mut body = with(bowl(), |s| s["parameters"]["k"] = json!(2.0));
+    let mut body = with_system(bowl(), |s| s["parameters"]["k"] = json!(2.0));
     body["integrals"] = json!(["latitude"]);
-    rejected(&s, &body, "integrals[0]", &["no integral 'latitude'", "U = |x|²/2"]).await;
+    s.rejected(&body, "integrals[0]", &["no integral 'latitude'", "U = |x|²/2"]).await;
     // Unknown fields in the object are a 400 at their path.
-    let body = with(bowl(), |s| s["potentials"] = json!("x"));
+    let body = with_system(bowl(), |s| s["potentials"] = json!("x"));
     let (status, error) = s.post_json("/simulate", &body).await;
     assert_eq!((status, error["path"].as_str()), (400, Some("system.potentials")), "{error}");
-    let body = with(bowl(), |s| s["constraints"][0][1] = json!(5));
+    let body = with_system(bowl(), |s| s["constraints"][0][1] = json!(5));
     let (status, error) = s.post_json("/simulate", &body).await;
     assert_eq!(
         (status, error["path"].as_str()),
@@ -246,7 +233,8 @@ async fn formula_errors_name_the_field_the_position_and_the_reason() {
 #[tokio::test]
 async fn a_formula_that_blows_up_mid_run_fails_that_run() {
     let s = TestServer::start().await;
-    let mut body = with(bowl(), |s| s["driver_potential"] = json!("sqrt(2 - theta) - theta"));
+    let mut body =
+        with_system(bowl(), |s| s["driver_potential"] = json!("sqrt(2 - theta) - theta"));
     body["methods"] = json!(["leapfrog", "dd"]);
     let (status, answer) = s.post_json("/simulate", &body).await;
     assert_eq!(status, 200, "{}", answer["error"]);

@@ -3,7 +3,7 @@
 //! it with y as the driver, and every way to get one wrong is a 422 at its field with the
 //! number that failed.
 
-use nhlab_tests::TestServer;
+use nhlab_tests::{TestServer, with_system};
 use serde_json::{Value, json};
 
 /// The example: the Chaplygin sleigh, with its kinetic energy as an invariant (g = 0).
@@ -17,21 +17,6 @@ fn sleigh() -> Value {
                       "invariants": {"kinetic": "m*(x_dot^2 + y_dot^2)/2 + I*theta_dot^2/2"}},
            "q": [0, 0, 0], "v": [0, 0.5, 1], "step": 0.1, "t_end": 100,
            "methods": ["dla", "dla01", "leapfrog", "dd", "rk4", "rattle"]})
-}
-
-fn with(mut body: Value, f: impl FnOnce(&mut Value)) -> Value {
-    f(&mut body["system"]);
-    body
-}
-
-async fn rejected(s: &TestServer, body: &Value, path: &str, mentions: &[&str]) {
-    let (status, error) = s.post_json("/simulate", body).await;
-    assert_eq!(status, 422, "{body}: {error}");
-    assert_eq!(error["path"], path, "{error}");
-    let message = error["error"].as_str().unwrap();
-    for m in mentions {
-        assert!(message.contains(m), "'{message}' does not mention '{m}'");
-    }
 }
 
 #[tokio::test]
@@ -97,41 +82,40 @@ async fn the_contact_oscillator_is_found_in_the_paper_s_class() {
 async fn general_form_errors_name_the_field_and_the_number() {
     let s = TestServer::start().await;
     // M not positive definite: its smallest eigenvalue.
-    let body = with(sleigh(), |s| s["mass"] = json!([1, 1, -0.5]));
-    rejected(&s, &body, "system.mass", &["positive definite", "smallest eigenvalue is -5.000e-1"])
+    let body = with_system(sleigh(), |s| s["mass"] = json!([1, 1, -0.5]));
+    s.rejected(&body, "system.mass", &["positive definite", "smallest eigenvalue is -5.000e-1"])
         .await;
-    let body = with(sleigh(), |s| s["mass"][0][1] = json!(0.3));
-    rejected(&s, &body, "system.mass[1][0]", &["symmetric"]).await;
-    let body = with(sleigh(), |s| s["mass"] = json!(["m", "x"]));
-    rejected(&s, &body, "system.mass", &["one entry per coordinate (3), got 2"]).await;
-    let body = with(sleigh(), |s| s["mass"] = json!(["m", "m", "theta"]));
-    rejected(&s, &body, "system.mass[2]", &["'theta' is a coordinate", "M is constant"]).await;
+    let body = with_system(sleigh(), |s| s["mass"][0][1] = json!(0.3));
+    s.rejected(&body, "system.mass[1][0]", &["symmetric"]).await;
+    let body = with_system(sleigh(), |s| s["mass"] = json!(["m", "x"]));
+    s.rejected(&body, "system.mass", &["one entry per coordinate (3), got 2"]).await;
+    let body = with_system(sleigh(), |s| s["mass"] = json!(["m", "m", "theta"]));
+    s.rejected(&body, "system.mass[2]", &["'theta' is a coordinate", "M is constant"]).await;
     // A formula that names a velocity where only invariants may.
-    let body = with(sleigh(), |s| s["potential"] = json!("x_dot"));
-    rejected(&s, &body, "system.potential", &["velocities appear in invariants only"]).await;
-    let body = with(sleigh(), |s| s["invariants"]["kinetic"] = json!("m*x_dot^"));
-    rejected(&s, &body, "system.invariants.kinetic", &["at 9"]).await;
-    let body = with(sleigh(), |s| s["invariants"] = json!({"energy": "x"}));
-    rejected(&s, &body, "system.invariants.energy", &["cannot name an invariant"]).await;
+    let body = with_system(sleigh(), |s| s["potential"] = json!("x_dot"));
+    s.rejected(&body, "system.potential", &["velocities appear in invariants only"]).await;
+    let body = with_system(sleigh(), |s| s["invariants"]["kinetic"] = json!("m*x_dot^"));
+    s.rejected(&body, "system.invariants.kinetic", &["at 9"]).await;
+    let body = with_system(sleigh(), |s| s["invariants"] = json!({"energy": "x"}));
+    s.rejected(&body, "system.invariants.energy", &["cannot name an invariant"]).await;
     // Sizes.
-    let body = with(sleigh(), |s| {
+    let body = with_system(sleigh(), |s| {
         s["constraints"] = json!([["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]])
     });
-    rejected(&s, &body, "system.constraints", &["1 to N − 1 = 2 constraint rows, got 3"]).await;
+    s.rejected(&body, "system.constraints", &["1 to N − 1 = 2 constraint rows, got 3"]).await;
     // A loses rank at q₀: its smallest singular value.
-    let body = with(sleigh(), |s| s["constraints"] = json!([["sin(theta)", "0", "0"]]));
-    rejected(&s, &body, "system.constraints", &["smallest singular value is 0.000e0"]).await;
+    let body = with_system(sleigh(), |s| s["constraints"] = json!([["sin(theta)", "0", "0"]]));
+    s.rejected(&body, "system.constraints", &["smallest singular value is 0.000e0"]).await;
     // v₀ off the constraints: the residual and the nearest admissible v₀ in M's metric.
     let mut body = sleigh();
     body["v"] = json!([0, 0.5, 0.5]);
-    rejected(&s, &body, "v", &["|A(q) v| = 2.500e-1", "the nearest v that does"]).await;
+    s.rejected(&body, "v", &["|A(q) v| = 2.500e-1", "the nearest v that does"]).await;
     // A method without a general step.
     let mut body = sleigh();
     body["methods"] = json!(["dla", "dd_avf"]);
-    rejected(&s, &body, "methods[1]", &["DD-AVF applies only to systems of the paper's class"])
-        .await;
+    s.rejected(&body, "methods[1]", &["DD-AVF applies only to systems of the paper's class"]).await;
     // Fields of both forms at once.
-    let body = with(sleigh(), |s| s["driver"] = json!("theta"));
+    let body = with_system(sleigh(), |s| s["driver"] = json!("theta"));
     let (status, error) = s.post_json("/simulate", &body).await;
     assert!(status == 400 || status == 422, "{error}");
     assert!(error["error"].as_str().unwrap().contains("belong to the paper's form"), "{error}");

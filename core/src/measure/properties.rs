@@ -111,6 +111,30 @@ fn round_trips<M: Copy, const N: usize, const R: usize>(
     Ok((reversibility, symmetry))
 }
 
+/// Check 3: the largest discrete-constraint residual over [`MANIFOLD_STEPS`] steps of `m`
+/// (relative), the smaller of `defects(before, after)`'s end and midpoint residuals at each
+/// step; a composed method imposes its base method's at every sub-step, so it is checked
+/// there (`base_step` is its base method's step).
+fn constraint_defect<M: Copy, const N: usize, const R: usize>(
+    m: &Method,
+    base_step: &dyn Fn(&mut State<N, R>, &mut M, f64) -> Result<(), StepFailure>,
+    defects: &dyn Fn(&State<N, R>, &State<N, R>) -> (f64, f64),
+    (mut st, mut memory): (State<N, R>, M),
+    h: f64,
+) -> Result<f64, StepFailure> {
+    let fractions = m.composition.map_or(&[1.0][..], |c| c.coefficients());
+    let mut worst: f64 = 0.0;
+    for _ in 0..MANIFOLD_STEPS {
+        for &gamma in fractions {
+            let prev = st;
+            base_step(&mut st, &mut memory, gamma * h)?;
+            let (end, mid) = defects(&prev, &st);
+            worst = worst.max(end.min(mid) / scale(&st));
+        }
+    }
+    Ok(worst)
+}
+
 /// A start on the constraint manifold with the passenger moved to `x + dx` and its reduced
 /// velocity scaled by `factor`.
 fn moved<S: System<N, R>, const N: usize, const R: usize>(
@@ -171,19 +195,15 @@ pub fn measure<S: System<N, R>, const N: usize, const R: usize>(
 
     // 3. A discrete constraint at every step; a composed method imposes its base method's at
     // every sub-step, so it is checked there.
-    let (mut constraint_defect, (mut st, mut memory)): (f64, _) = (0.0, fresh(start));
     let base = Method { composition: None, ..*m };
-    let fractions = m.composition.map_or(&[1.0][..], |c| c.coefficients());
-    for _ in 0..MANIFOLD_STEPS {
-        for &gamma in fractions {
-            let prev = st;
-            base.step(sys, &mut st, &mut memory, gamma * h)?;
-            let end = sys.constraint_residual(&st.q, &st.v);
-            let mid_zeta = 0.5 * (prev.q[N - 1] + st.q[N - 1]);
-            let mid = (sys.constraint(mid_zeta) * (prev.v + st.v) * 0.5).norm();
-            constraint_defect = constraint_defect.max(end.min(mid) / scale(&st));
-        }
-    }
+    let base_step =
+        |st: &mut State<N, R>, mem: &mut MethodMemory<N, R>, h| base.step(sys, st, mem, h);
+    let defects = |prev: &State<N, R>, st: &State<N, R>| {
+        let mid_zeta = 0.5 * (prev.q[N - 1] + st.q[N - 1]);
+        let mid = (sys.constraint(mid_zeta) * (prev.v + st.v) * 0.5).norm();
+        (sys.constraint_residual(&st.q, &st.v), mid)
+    };
+    let constraint_defect = constraint_defect(m, &base_step, &defects, fresh(start), h)?;
 
     Ok(Properties {
         reversible: reversibility_defect <= REVERSIBLE_TOL,
@@ -212,19 +232,15 @@ pub fn measure_general<S: Mechanical<N, R>, const N: usize, const R: usize>(
         |st: &mut State<N, R>, mem: &mut GeneralMemory<N, R>, h| m.step_general(sys, st, mem, h);
     let (reversibility_defect, symmetry_defect) =
         round_trips(&step, (start, GeneralMemory::empty()), h)?;
-    let (mut constraint_defect, mut st, mut memory): (f64, _, _) =
-        (0.0, start, GeneralMemory::empty());
     let base = Method { composition: None, ..*m };
-    let fractions = m.composition.map_or(&[1.0][..], |c| c.coefficients());
-    for _ in 0..MANIFOLD_STEPS {
-        for &gamma in fractions {
-            let prev = st;
-            base.step_general(sys, &mut st, &mut memory, gamma * h)?;
-            let end = sys.constraint_residual(&st.q, &st.v);
-            let mid = (sys.constraint(&(0.5 * (prev.q + st.q))) * (prev.v + st.v) * 0.5).norm();
-            constraint_defect = constraint_defect.max(end.min(mid) / scale(&st));
-        }
-    }
+    let base_step =
+        |st: &mut State<N, R>, mem: &mut GeneralMemory<N, R>, h| base.step_general(sys, st, mem, h);
+    let defects = |prev: &State<N, R>, st: &State<N, R>| {
+        let mid = (sys.constraint(&(0.5 * (prev.q + st.q))) * (prev.v + st.v) * 0.5).norm();
+        (sys.constraint_residual(&st.q, &st.v), mid)
+    };
+    let start = (start, GeneralMemory::empty());
+    let constraint_defect = constraint_defect(m, &base_step, &defects, start, h)?;
     Ok(Properties {
         reversible: reversibility_defect <= REVERSIBLE_TOL,
         reversibility_defect,

@@ -18,9 +18,8 @@ pub use general::{run_general, run_method_general};
 pub use problem::{Collect, DIVERGED, Observer, Problem, RunConfig, RunOutcome};
 
 use self::invariant_series::InvariantSeries;
-use self::problem::failure_of;
+use self::problem::{Progress, StepSeries, failure_of};
 use self::rank::Rank;
-use crate::measure::bucket::Lanes;
 use crate::measure::latitude::LatitudeTracker;
 use crate::methods::integrator::{GeneralStepper, Stepper};
 use crate::methods::memory::{Memory, Recall, driver_potential_and_constraint};
@@ -136,9 +135,10 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
     let v0 = values(sys, &st, &memory, energies, constraint);
     // Where A's rank may be lost (a system given as formulas), it is watched step by step;
     // the built-ins' A has full rank everywhere (`System::rank_is_constant`).
-    let watch_rank = !sys.rank_is_constant();
-    let mut a_before = sys.constraint(st.q[N - 1]);
-    let rank = Rank::new(&a_before);
+    let mut rank = (!sys.rank_is_constant()).then(|| {
+        let a = sys.constraint(st.q[N - 1]);
+        (Rank::new(&a), a)
+    });
     // The four step integrals share every sample time: one set of lanes buckets them all
     // (lanes not asked for carry zeros), and the series asked for read their lane.
     let mut initial = v0;
@@ -150,10 +150,7 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
         .filter(|&&i| i != Integral::Latitude && !matches!(i, Integral::Invariant(_)))
         .map(|&i| (i, index_of(i)))
         .collect();
-    for &(integral, lane) in &series {
-        observer.initial(integral, initial[lane]);
-    }
-    let mut lanes = Lanes::<4>::new(problem.steps, cfg.points);
+    let mut lanes = StepSeries::new(series, &initial, (problem.steps, cfg.points), observer);
     let mut latitude =
         problem.latitude.filter(|_| problem.integrals.contains(&Integral::Latitude)).map(|axis| {
             observer.initial(Integral::Latitude, axis.latitude0);
@@ -163,9 +160,7 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
         });
     let mut invariants =
         InvariantSeries::new(problem, &problem.start.q, &problem.start.v, cfg, observer);
-    let every = cfg.progress_every.max(1);
-    // A countdown rather than `k % every`: no division per step.
-    let mut next_progress = every;
+    let mut progress = Progress::new(cfg);
     for k in 1..=problem.steps {
         let t0 = (k - 1) as f64 * h;
         let failed = |failure| RunOutcome {
@@ -181,22 +176,18 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
         turns += take_turns(&mut st, &mut memory);
         let t = k as f64 * h;
         let now = values(sys, &st, &memory, energies, constraint);
-        if watch_rank {
+        if let Some((rank, a_before)) = rank.as_mut() {
             let a = driver_potential_and_constraint(&memory, sys, &st).1;
-            if let Err(failure) = rank.check(&a_before, &a) {
+            if let Err(failure) = rank.check(a_before, &a) {
                 return failed(failure);
             }
-            a_before = a;
+            *a_before = a;
         }
         // A potential can overflow where the state does not (a quartic U at |x| ~ 1e77).
         if !(now[0] + now[3]).is_finite() {
             return failed(StepFailure::NonFinite);
         }
-        if let Some(b) = lanes.push(t, std::array::from_fn(|i| (now[i] - initial[i]).abs())) {
-            for &(integral, lane) in &series {
-                observer.points(integral, b[lane]);
-            }
-        }
+        lanes.push(t, std::array::from_fn(|i| (now[i] - initial[i]).abs()), observer);
         if let Some(series) = invariants.as_mut()
             && let Err(failure) = series.push(t, &st.q_with_turns(turns), &st.v, observer)
         {
@@ -209,18 +200,11 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
         {
             observer.points(Integral::Latitude, b);
         }
-        if k == next_progress {
-            next_progress += every;
-            if observer.progress(k, t).is_break() {
-                return RunOutcome { steps: k, error: Some(RunError::Cancelled { step: k, t }) };
-            }
+        if let Some(cancelled) = progress.tick(k, t, observer) {
+            return cancelled;
         }
     }
-    if let Some(b) = lanes.finish() {
-        for &(integral, lane) in &series {
-            observer.points(integral, b[lane]);
-        }
-    }
+    lanes.finish(observer);
     if let Some(series) = invariants.as_mut() {
         series.finish(observer);
     }

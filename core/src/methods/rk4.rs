@@ -76,22 +76,9 @@ impl Stepper for Rk4 {
         h: f64,
     ) -> Result<(), StepFailure> {
         let f = |q, v| sys.acceleration(&q, &v).map(|(a, _)| a).ok_or(StepFailure::Singular);
-        let (q0, v0) = (st.q, st.v);
         // First same as last: the previous step ended with q̈ here.
-        let a1 = match mem.acceleration.at(st) {
-            Some(a) => a,
-            None => f(q0, v0)?,
-        };
-        let (q2, v2) = (q0 + 0.5 * h * v0, v0 + 0.5 * h * a1);
-        let a2 = f(q2, v2)?;
-        let (q3, v3) = (q0 + 0.5 * h * v2, v0 + 0.5 * h * a2);
-        let a3 = f(q3, v3)?;
-        let (q4, v4) = (q0 + h * v3, v0 + h * a3);
-        let a4 = f(q4, v4)?;
-        st.advance(
-            h / 6.0 * (v0 + 2.0 * v2 + 2.0 * v3 + v4),
-            h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4),
-        );
+        let (dq, dv) = stages(f, (st.q, st.v), mem.acceleration.at(st), h)?;
+        st.advance(dq, dv);
         // The multiplier at q₁ (the state carries it), and with it q̈ for the next step and
         // A, V_d, V_d' for the integrals there: one evaluation, one sin/cos.
         let (q1, v1, zeta) = (st.q, st.v, st.q[N - 1]);
@@ -102,4 +89,27 @@ impl Stepper for Rk4 {
         mem.end.remember(st, at_q1.constraint, at_q1.potential, g[N - 1]);
         Ok(())
     }
+}
+
+/// The classical stages from `(q₀, q̇₀)` for the acceleration `f` (its value at the start
+/// given where the last step ended there): the increments of q and q̇, as
+/// `docs/model.md` §3 writes them. The class's step and the general one share them.
+#[inline(always)]
+pub(crate) fn stages<const N: usize>(
+    f: impl Fn(Vector<N>, Vector<N>) -> Result<Vector<N>, StepFailure>,
+    (q0, v0): (Vector<N>, Vector<N>),
+    first: Option<Vector<N>>,
+    h: f64,
+) -> Result<(Vector<N>, Vector<N>), StepFailure> {
+    let a1 = match first {
+        Some(a) => a,
+        None => f(q0, v0)?,
+    };
+    let (q2, v2) = (q0 + 0.5 * h * v0, v0 + 0.5 * h * a1);
+    let a2 = f(q2, v2)?;
+    let (q3, v3) = (q0 + 0.5 * h * v2, v0 + 0.5 * h * a2);
+    let a3 = f(q3, v3)?;
+    let (q4, v4) = (q0 + h * v3, v0 + h * a3);
+    let a4 = f(q4, v4)?;
+    Ok((h / 6.0 * (v0 + 2.0 * v2 + 2.0 * v3 + v4), h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)))
 }

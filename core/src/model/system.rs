@@ -77,6 +77,8 @@ pub struct SystemInfo {
     pub name: &'static str,
     /// One or two sentences.
     pub description: &'static str,
+    /// Where it comes from: the papers (or software) whose test problem it is.
+    pub source: &'static str,
     /// Parameters, in the order [`BuiltIn::new`] takes them.
     pub params: &'static [ParamSpec],
     /// The integrals (and the constraint diagnostic) it has.

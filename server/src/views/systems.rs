@@ -74,6 +74,8 @@ pub struct SystemView {
     pub name: String,
     /// What it is.
     pub description: String,
+    /// Where it comes from (the papers, or the software, whose test problem it is).
+    pub source: String,
     /// Number of coordinates (length of q and v).
     pub dof: usize,
     /// Number of constraints.
@@ -302,6 +304,7 @@ impl SystemView {
             id: info.id.into(),
             name: info.name.into(),
             description: info.description.into(),
+            source: info.source.into(),
             dof: general.coordinates.len(),
             constraints: general.constraints.len(),
             params: info.params.iter().map(ParamView::of).collect(),

@@ -5,9 +5,8 @@
 //! run.
 
 use super::invariant_series::InvariantSeries;
-use super::problem::{Observer, Problem, RunConfig, RunOutcome, failure_of};
+use super::problem::{Observer, Problem, Progress, RunConfig, RunOutcome, StepSeries, failure_of};
 use super::rank::Rank;
-use crate::measure::bucket::Lanes;
 use crate::methods::general_memory::GeneralMemory;
 use crate::methods::integrator::{GeneralStepper, Stepper};
 use crate::methods::{Method, Visitor};
@@ -32,7 +31,6 @@ pub fn run_general<S: Mechanical<N, R>, M: GeneralStepper, const N: usize, const
     };
     let (h0, _, _) = values(&st, &memory);
     // Lane 0: H, lane 1: the residual (reported as is: its ideal is 0).
-    let initial = [h0, 0.0];
     let series: Vec<(Integral, usize)> = problem
         .integrals
         .iter()
@@ -42,13 +40,9 @@ pub fn run_general<S: Mechanical<N, R>, M: GeneralStepper, const N: usize, const
             _ => None,
         })
         .collect();
-    for &(integral, lane) in &series {
-        observer.initial(integral, initial[lane]);
-    }
-    let mut lanes = Lanes::<2>::new(problem.steps, cfg.points);
+    let mut lanes = StepSeries::new(series, &[h0, 0.0], (problem.steps, cfg.points), observer);
     let mut invariants = InvariantSeries::new(problem, &st.q, &st.v, cfg, observer);
-    let every = cfg.progress_every.max(1);
-    let mut next_progress = every;
+    let mut progress = Progress::new(cfg);
     for k in 1..=problem.steps {
         let t0 = (k - 1) as f64 * h;
         let failed = |failure| RunOutcome {
@@ -70,28 +64,17 @@ pub fn run_general<S: Mechanical<N, R>, M: GeneralStepper, const N: usize, const
             return failed(failure);
         }
         a_before = a;
-        if let Some(b) = lanes.push(t, [(energy - h0).abs(), residual]) {
-            for &(integral, lane) in &series {
-                observer.points(integral, b[lane]);
-            }
-        }
+        lanes.push(t, [(energy - h0).abs(), residual], observer);
         if let Some(series) = invariants.as_mut()
             && let Err(failure) = series.push(t, &st.q, &st.v, observer)
         {
             return failed(failure);
         }
-        if k == next_progress {
-            next_progress += every;
-            if observer.progress(k, t).is_break() {
-                return RunOutcome { steps: k, error: Some(RunError::Cancelled { step: k, t }) };
-            }
+        if let Some(cancelled) = progress.tick(k, t, observer) {
+            return cancelled;
         }
     }
-    if let Some(b) = lanes.finish() {
-        for &(integral, lane) in &series {
-            observer.points(integral, b[lane]);
-        }
-    }
+    lanes.finish(observer);
     if let Some(series) = invariants.as_mut() {
         series.finish(observer);
     }

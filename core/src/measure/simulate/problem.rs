@@ -3,6 +3,7 @@
 //! the series, the [`RunConfig`] and the [`RunOutcome`]; and the test that ends a run whose
 //! state has diverged ([`failure_of`]).
 
+use crate::measure::bucket::Lanes;
 use crate::measure::latitude::LatitudeAxis;
 use crate::model::custom::Invariants;
 use crate::{Bucket, Gap, Integral, RunError, State, StepFailure};
@@ -108,4 +109,79 @@ pub(crate) fn failure_of<const N: usize, const R: usize>(st: &State<N, R>) -> Op
         });
     }
     None
+}
+
+/// The step integrals a run reports, sampled together: `K` lanes bucketed on one schedule, and
+/// the series asked for, each reading its lane.
+pub(crate) struct StepSeries<const K: usize> {
+    lanes: Lanes<K>,
+    series: Vec<(Integral, usize)>,
+}
+
+impl<const K: usize> StepSeries<K> {
+    /// `series` (integral, lane) over `steps` samples in `points` buckets; each series' initial
+    /// value (its lane's in `initial`) goes to `observer`.
+    pub(crate) fn new(
+        series: Vec<(Integral, usize)>,
+        initial: &[f64; K],
+        (steps, points): (u64, usize),
+        observer: &mut dyn Observer,
+    ) -> Self {
+        for &(integral, lane) in &series {
+            observer.initial(integral, initial[lane]);
+        }
+        Self { lanes: Lanes::new(steps, points), series }
+    }
+
+    /// Adds one sample of every lane at time t; a completed bucket goes to `observer`.
+    #[inline]
+    pub(crate) fn push(&mut self, t: f64, errors: [f64; K], observer: &mut dyn Observer) {
+        if let Some(b) = self.lanes.push(t, errors) {
+            self.send(b, observer);
+        }
+    }
+
+    /// Releases the last buckets.
+    pub(crate) fn finish(&mut self, observer: &mut dyn Observer) {
+        if let Some(b) = self.lanes.finish() {
+            self.send(b, observer);
+        }
+    }
+
+    fn send(&self, buckets: [Bucket; K], observer: &mut dyn Observer) {
+        for &(integral, lane) in &self.series {
+            observer.points(integral, buckets[lane]);
+        }
+    }
+}
+
+/// The countdown to a run's next call of [`Observer::progress`] (no division per step).
+pub(crate) struct Progress {
+    every: u64,
+    next: u64,
+}
+
+impl Progress {
+    pub(crate) fn new(cfg: &RunConfig) -> Self {
+        let every = cfg.progress_every.max(1);
+        Self { every, next: every }
+    }
+
+    /// After step k, at time t: the run's outcome if the observer asks it to stop.
+    #[inline]
+    pub(crate) fn tick(
+        &mut self,
+        k: u64,
+        t: f64,
+        observer: &mut dyn Observer,
+    ) -> Option<RunOutcome> {
+        if k != self.next {
+            return None;
+        }
+        self.next += self.every;
+        observer
+            .progress(k, t)
+            .is_break()
+            .then_some(RunOutcome { steps: k, error: Some(RunError::Cancelled { step: k, t }) })
+    }
 }

@@ -22,6 +22,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "anharmonic_cvt",
     name: "CVT, pendulum driver, anharmonic passenger",
     description: "cvt_pendulum with the passenger potential ½|x|² + (κ/4)|x|⁴: the general paths of the implicit methods; κ = 0 is cvt_pendulum.",
+    source: "nhlab's variant of Modin & Verdier's pendulum-driven CVT (a quartic passenger spring)",
     params: &[
         EPSILON,
         ParamSpec {

@@ -15,6 +15,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "chaotic_oscillator",
     name: "Chaotic quartic oscillator (McLachlan & Perlmutter)",
     description: "ẋ + Σ yᵢ żᵢ = 0 with V = ½(|q|² + Σ yᵢ²zᵢ² [+ z₁²z₂²]), n = 1 or 2: non-integrable, energy its only integral.",
+    source: "McLachlan & Perlmutter, J. Nonlinear Sci. 16 (2006); Celledoni et al., J. Nonlinear Sci. (2019)",
     params: &[ParamSpec {
         name: "n",
         default: 1.0,

@@ -38,6 +38,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "chaplygin_sleigh",
     name: "Chaplygin sleigh",
     description: "A rigid body on a knife edge at distance a behind its centre of mass: it slides along the blade, not across it (−sin θ ẋ + cos θ ẏ − a θ̇ = 0). Outside the paper's class: the constraint has a column for the turning speed.",
+    source: "Fedorov & Zenkov, Nonlinearity 18 (2005); Jay's and odelab's tests",
     params: &[
         param("m", 1.0, "mass m"),
         param("I", 1.0, "moment of inertia I about the centre of mass"),

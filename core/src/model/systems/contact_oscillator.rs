@@ -14,6 +14,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "contact_oscillator",
     name: "Contact oscillator (McLachlan & Perlmutter)",
     description: "ẋ + y ż = 0 with V = ½|q|² + (ε/2)x²z²: given in the general form, found in the paper's class with y as the driver.",
+    source: "McLachlan & Perlmutter, J. Nonlinear Sci. 16 (2006), §5.2; odelab's ContactOscillator",
     params: &[ParamSpec {
         name: "epsilon",
         default: 0.3,

@@ -15,6 +15,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "cvt",
     name: "CVT, harmonic driver",
     description: "Continuously variable transmission: a 2-d harmonic passenger coupled to a harmonic driver ζ through ẋ₁ + ζ ẋ₂ = 0.",
+    source: "Modin & Verdier, What makes nonholonomic integrators work?; McLachlan & Perlmutter (2006)",
     params: &[],
     integrals: &[
         Integral::Energy,

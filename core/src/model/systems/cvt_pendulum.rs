@@ -47,6 +47,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "cvt_pendulum",
     name: "CVT, pendulum driver",
     description: "Continuously variable transmission driven by a pendulum ζ through ẋ₁ + sin ζ ẋ₂ = 0; ε breaks the driver's reversibility.",
+    source: "Modin & Verdier, What makes nonholonomic integrators work?, §3.2",
     params: &[EPSILON],
     integrals: &[
         Integral::Energy,

@@ -13,6 +13,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "heisenberg",
     name: "Heisenberg system",
     description: "ż = y ẋ − x ẏ with V = (k/2)(x² + y²): its coefficients depend on two coordinates, so it is outside the paper's class.",
+    source: "Bloch, Nonholonomic Mechanics and Control; Chang et al., arXiv 1811.03757",
     params: &[ParamSpec {
         name: "k",
         default: 1.0,

@@ -19,6 +19,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "knife_edge",
     name: "Knife edge (skate on an inclined plane)",
     description: "A skate sliding on an inclined plane without sideways slip; ε perturbs the constraint and breaks reversibility.",
+    source: "Modin & Verdier, What makes nonholonomic integrators work?, §3.1; Bloch",
     params: &[ParamSpec {
         name: "epsilon",
         default: 0.0,

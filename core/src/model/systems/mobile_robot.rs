@@ -15,6 +15,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "mobile_robot",
     name: "Mobile robot",
     description: "A rolling disk whose heading ζ feels the potential sin ζ, so it swings like a pendulum.",
+    source: "Iglesias, Marrero, Martín de Diego & Martínez, J. Nonlinear Sci. (2008); odelab's Robot",
     params: &[],
     integrals: DISK_INTEGRALS,
     presets: &[Preset {

@@ -12,6 +12,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "nonholonomic_oscillator",
     name: "Nonholonomic oscillator",
     description: "ż = y ẋ with V = ½y²: given in the general form, found in the paper's class with y as the driver.",
+    source: "Bloch, Nonholonomic Mechanics and Control; Chang et al., arXiv 1811.03757",
     params: &[],
     integrals: &[
         Integral::Energy,

@@ -14,6 +14,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "particle",
     name: "Nonholonomic particle",
     description: "A particle with potential ½x₂² whose velocity obeys ẋ₁ + ζ ẋ₂ = 0, driven by a harmonic ζ.",
+    source: "Cortés & Martínez, Nonlinearity 14 (2001); Modin & Verdier",
     params: &[],
     integrals: &[
         Integral::Energy,

@@ -38,6 +38,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "rolling_disk",
     name: "Vertical rolling disk",
     description: "A disk rolling upright without slipping on a plane; its heading ζ drives the contact point.",
+    source: "Bloch, Nonholonomic Mechanics and Control; Modin & Verdier",
     params: &[],
     integrals: DISK_INTEGRALS,
     presets: &[Preset {

@@ -29,6 +29,7 @@ static INFO: SystemInfo = SystemInfo {
     id: "vertical_disk",
     name: "Vertical rolling disk (with masses)",
     description: "A disk rolling upright without slipping, with mass m, radius R and inertias I_flip, I_rot; its exact solution is known, so work–precision measures against it.",
+    source: "odelab's VerticalRollingDisk; Chang et al., arXiv 1811.03757",
     params: &[
         positive("m", "mass m"),
         positive("R", "radius R"),
