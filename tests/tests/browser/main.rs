@@ -42,8 +42,9 @@
 //!     URL holding the map (`map.png`); hovering a cell shows its tooltip with its axis values,
 //!     method and numbers (`map-tooltip.png`); clicking it runs that cell in Explore, its one
 //!     curve drawn (`map-opened.png`); a one-axis link with `run=1` draws a cell strip and a
-//!     line per method (`map-one-axis.png`); an axis path the server rejects is marked at its
-//!     field (`map-bad-axis.png`).
+//!     line per method (`map-one-axis.png`), and so does one on the Chaplygin sleigh, whose
+//!     preset the map offers (`map-sleigh.png`); an axis path the server rejects is marked at
+//!     its field (`map-bad-axis.png`).
 //! 11. at 400, 800 and 1400 px the rotating, perturbed experiment (one click) brings its status
 //!     line and first plot into view, scrolling only when they were off screen
 //!     (`width-400.png`, …); no view scrolls sideways at 360, 400, 800 or 1400 px; every
