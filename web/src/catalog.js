@@ -2,7 +2,9 @@
 // method of its own. The default methods are the catalog's `default_methods` (the paper's
 // five), the paper's experiments its `paper_scenes`; the integrals a paper figure shows, the
 // default running-mean window, a system's short name and the Paper view's figures follow
-// from the systems' integrals, presets and names. Pure functions, so node tests cover them.
+// from the systems' integrals, presets and names; the methods that apply to a system and
+// what it is (in the paper's class or not) from its `methods` and `paper_class`. Pure
+// functions, so node tests cover them.
 
 import { INTEGRAL_NAME, INTEGRAL_SHORT } from './verdicts.js';
 
@@ -16,6 +18,29 @@ export function findPreset(system, id) {
 
 export function findMethod(catalog, id) {
   return catalog.methods.find((m) => m.id === id);
+}
+
+/** The methods (catalog entries) that apply to a system: a built-in's `methods`; every method
+ *  for a custom system (the server says which do not apply when it runs). */
+export function methodsFor(catalog, system) {
+  const ids = findSystem(catalog, system)?.methods;
+  return Array.isArray(ids) ? catalog.methods.filter((m) => ids.includes(m.id)) : catalog.methods;
+}
+
+/** `methods` (`{id, …}`) without those that do not apply to `system`. */
+export function applicable(catalog, system, methods) {
+  const ids = new Set(methodsFor(catalog, system).map((m) => m.id));
+  return methods.filter((m) => ids.has(m.id));
+}
+
+/** What a system is, as a sentence, from a `paper_class` (a built-in's or a scene's): "In the
+ *  paper's class, driver y." or "Outside the paper's class: <why not>.", with `remark` after
+ *  "class"; '' without one. */
+export function paperClassLine(paperClass, remark = '') {
+  if (!paperClass) return '';
+  const { member, driver, why_not: why } = paperClass;
+  const line = member ? `In the paper’s class${remark}${driver ? `, driver ${driver}` : ''}` : `Outside the paper’s class${remark}${why ? `: ${why}` : ''}`;
+  return `${line.replace(/\.$/, '')}.`;
 }
 
 /**

@@ -1,23 +1,25 @@
-// A system of the user's own, given as formulas: the object `"system"` takes in a request
-// (name, passenger and driver names, parameters with their values, the potentials U and V_d,
-// the passenger columns of the constraint matrix A(ζ)). Pure functions over that object: a
-// copy of a built-in's `formulas` from the catalog, the integrals the server may offer, its
-// URL form, and the labels that name a scene's system, built-in or not (in words and as a
-// file-name stem).
+// A system of the user's own, given as formulas: the object `"system"` takes in a request,
+// in the paper's form (name, passenger and driver names, parameters with their values, the
+// potentials U and V_d, the passenger columns of the constraint matrix A(ζ)) or the general
+// one (coordinates, a constant mass matrix M, a potential V(q), the rows of A(q), named
+// invariants, whether to look for the paper's class in it). Pure functions over that object:
+// a copy of a built-in's `formulas` or `general` form from the catalog, one form written in
+// the other, the integrals the server may offer, and the labels that name a scene's system,
+// built-in or not (in words and as a file-name stem). The editor's inputs are read into it
+// by customfields.js, its URL form is in customurl.js.
 
 import { findPreset, findSystem, presetLabel } from './catalog.js';
 
 /** The system select's value for "Custom system" (no built-in id looks like it). */
 export const CUSTOM = '(custom)';
 
-/** Sizes the API takes: passengers, and constraint rows from 1 to passengers − 1. */
-export const MIN_PASSENGERS = 2;
-export const MAX_PASSENGERS = 6;
-
-/** Integrals every custom system has, in the order the server lists them. */
+/** Integrals every custom system in the paper's form has, in the order the server lists them. */
 const ALWAYS = ['energy', 'passenger_energy', 'driver_energy', 'constraint'];
 
-/** What the editor shows for a built-in the catalog gives no formulas for. */
+/** Integrals a system in the general form has only where nhlab finds the paper's class in it. */
+export const CLASS_ONLY = ['passenger_energy', 'driver_energy', 'latitude'];
+
+/** What the editor shows for a system the catalog gives no formulas for. */
 const BLANK = {
   name: 'My system',
   passenger: ['x1', 'x2'],
@@ -32,8 +34,32 @@ export function isCustom(system) {
   return system !== null && typeof system === 'object';
 }
 
-/** A deep copy of a custom system, with its fields in the API's order. */
+/** Whether a custom system is in the general form (it names its `coordinates`). */
+export function isGeneral(sys) {
+  return isCustom(sys) && Array.isArray(sys.coordinates);
+}
+
+/** A custom system's form: `general` or `paper`. */
+export function formOf(sys) {
+  return isGeneral(sys) ? 'general' : 'paper';
+}
+
+/** A deep copy of a custom system, with its fields in the API's order (as the server writes
+ *  them back: no `mass` for the identity, no `invariants` when there are none). */
 export function copyCustom(sys) {
+  if (isGeneral(sys)) {
+    const invariants = { ...(sys.invariants ?? {}) };
+    return {
+      name: sys.name ?? '',
+      coordinates: [...sys.coordinates],
+      parameters: { ...(sys.parameters ?? {}) },
+      ...(Array.isArray(sys.mass) ? { mass: sys.mass.map((m) => (Array.isArray(m) ? [...m] : m)) } : {}),
+      potential: sys.potential ?? '',
+      constraints: (sys.constraints ?? []).map((row) => [...row]),
+      ...(Object.keys(invariants).length ? { invariants } : {}),
+      detect_class: sys.detect_class !== false,
+    };
+  }
   return {
     name: sys.name ?? '',
     passenger: [...(sys.passenger ?? [])],
@@ -45,34 +71,97 @@ export function copyCustom(sys) {
   };
 }
 
+/** How a mass is given: `identity` (none), `diagonal` (a list) or `full` (rows). */
+export function massMode(mass) {
+  if (!Array.isArray(mass)) return 'identity';
+  return mass.length > 0 && mass.every(Array.isArray) ? 'full' : 'diagonal';
+}
+
+/** The names of a custom system's coordinates, in the order q and q̇ list them (the paper's
+ *  form: the passengers, then the driver). */
+export function coordinateNames(sys) {
+  return isGeneral(sys) ? [...sys.coordinates] : [...sys.passenger, sys.driver];
+}
+
 /**
- * A built-in system's formula form (its catalog `formulas`), with parameters at `params`
- * where given; a small template when the catalog has no formulas for it.
+ * A built-in system written as formulas, with parameters at `params` where given: in `form`
+ * (`paper`: its catalog `formulas`; `general`: its `general`), or without `form` in the
+ * paper's where it has one, else the general one; a small template when the catalog has
+ * neither.
  */
-export function customFrom(catalog, systemId, params = {}) {
-  const formulas = findSystem(catalog, systemId)?.formulas;
-  const sys = copyCustom(formulas ?? BLANK);
+export function customFrom(catalog, systemId, params = {}, form) {
+  const system = findSystem(catalog, systemId);
+  const general = form === 'general' || (form !== 'paper' && !system?.formulas && system?.general);
+  const source = general ? system?.general ?? toGeneral(BLANK) : system?.formulas ?? BLANK;
+  const sys = copyCustom(source);
   for (const name of Object.keys(sys.parameters)) {
     if (typeof params[name] === 'number') sys.parameters[name] = params[name];
   }
   return sys;
 }
 
-/** The built-ins the editor can start from: those with a formula form. */
+/** The built-ins the editor can start from, per form: those with a paper's form, and every
+ *  one in the general form. */
 export function startingPoints(catalog) {
-  return catalog.systems.filter((s) => s.formulas);
+  return {
+    paper: catalog.systems.filter((s) => s.formulas),
+    general: catalog.systems.filter((s) => s.general),
+  };
 }
 
-/** The integrals the server may offer: the latitude only for two passengers and one
- *  constraint (it also needs a quadratic U, which the server checks). */
+/** A paper's-form system in the general form: the driver last, V = U + V_d, unit masses, A's
+ *  driver column zero. The same system: nhlab finds the paper's class in it. */
+export function toGeneral(sys) {
+  return {
+    name: sys.name,
+    coordinates: [...sys.passenger, sys.driver],
+    parameters: { ...sys.parameters },
+    potential: `(${sys.passenger_potential || '0'}) + (${sys.driver_potential || '0'})`,
+    constraints: sys.constraints.map((row) => [...row, '0']),
+    detect_class: true,
+  };
+}
+
+/** A general-form system in the paper's form, as far as it goes: the last coordinate as the
+ *  driver, V as U (V_d zero), A without its last column; M and the invariants are left out
+ *  (the server says what does not fit the paper's form). */
+export function toPaper(sys) {
+  const names = sys.coordinates;
+  return {
+    name: sys.name,
+    passenger: names.slice(0, -1),
+    driver: names[names.length - 1] ?? '',
+    parameters: { ...sys.parameters },
+    passenger_potential: sys.potential,
+    driver_potential: '0',
+    constraints: sys.constraints.map((row) => row.slice(0, Math.max(0, names.length - 1))),
+  };
+}
+
+/** A custom system written in `form`, itself when it is in that form already. */
+export function inForm(sys, form) {
+  if (formOf(sys) === form) return copyCustom(sys);
+  return form === 'general' ? toGeneral(sys) : toPaper(sys);
+}
+
+/**
+ * The integrals the server may offer: in the paper's form, the latitude only for two
+ * passengers and one constraint (it also needs a quadratic U, which the server checks); in
+ * the general form, the energy, the constraint and the invariants by name, and the passenger
+ * and driver energies where nhlab finds the paper's class (`CLASS_ONLY`).
+ */
 export function customIntegrals(sys) {
+  if (isGeneral(sys)) {
+    const invariants = Object.keys(sys.invariants ?? {});
+    return sys.detect_class === false ? ['energy', 'constraint', ...invariants] : [...ALWAYS, ...invariants];
+  }
   const latitude = sys.passenger.length === 2 && sys.constraints.length === 1;
   return latitude ? [...ALWAYS.slice(0, 3), 'latitude', 'constraint'] : [...ALWAYS];
 }
 
-/** The integrals a custom state starts with: those every custom system has. */
-export function defaultCustomIntegrals() {
-  return [...ALWAYS];
+/** The integrals a custom state starts with: those the system has in any case. */
+export function defaultCustomIntegrals(sys) {
+  return isGeneral(sys) ? ['energy', 'constraint', ...Object.keys(sys.invariants ?? {})] : [...ALWAYS];
 }
 
 /** A scene's system as a label names it: a built-in's name, or the custom system's. */
@@ -98,90 +187,6 @@ export function sceneCaption(scene, catalog) {
   ]
     .filter(Boolean)
     .join(' · ');
-}
-
-/**
- * The query pairs of a custom system: `custom=<name>`, `passenger=x1,x2`, `driver=zeta`,
- * `param.<name>=<value>` in order, `U=…`, `Vd=…` and one `A=…` per constraint row (entries
- * comma-separated). Commas and `%` inside an item are written %2C and %25.
- */
-export function encodeCustom(sys) {
-  const out = [
-    ['custom', sys.name],
-    ['passenger', joinItems(sys.passenger)],
-    ['driver', sys.driver],
-  ];
-  for (const [name, value] of Object.entries(sys.parameters)) out.push([`param.${name}`, String(value)]);
-  out.push(['U', sys.passenger_potential], ['Vd', sys.driver_potential]);
-  for (const row of sys.constraints) out.push(['A', joinItems(row)]);
-  return out;
-}
-
-/** The custom system of a query (URLSearchParams), or null when it names none. Parameter
- *  values that do not parse are kept as NaN for the form to mark. */
-export function decodeCustom(p) {
-  if (!p.has('custom')) return null;
-  const parameters = {};
-  for (const [key, value] of p) {
-    if (key.startsWith('param.')) parameters[key.slice(6)] = Number(value);
-  }
-  return {
-    name: p.get('custom'),
-    passenger: splitItems(p.get('passenger') ?? ''),
-    driver: p.get('driver') ?? '',
-    parameters,
-    passenger_potential: p.get('U') ?? '',
-    driver_potential: p.get('Vd') ?? '',
-    constraints: p.getAll('A').map(splitItems),
-  };
-}
-
-/**
- * The custom system the editor's inputs describe (`fields`: the texts of its inputs, the
- * parameters as [name, value] pairs, the constraints as rows of entries) and the inputs that
- * cannot be sent as `invalid` ({path, message}): a parameter without a name, given twice or
- * whose value is not a number. Formulas go as typed: the server checks them and says where.
- */
-export function customFromFields(fields) {
-  const invalid = [];
-  const parameters = {};
-  for (const [rawName, text] of fields.parameters) {
-    const name = rawName.trim();
-    if (!name) {
-      invalid.push({ path: 'system.parameters', message: 'a parameter needs a name' });
-      continue;
-    }
-    const path = `system.parameters.${name}`;
-    const value = String(text).trim() === '' ? NaN : Number(text);
-    if (Object.hasOwn(parameters, name)) invalid.push({ path, message: `parameter '${name}' is given twice` });
-    else if (!Number.isFinite(value)) invalid.push({ path, message: `parameter '${name}' needs a number` });
-    parameters[name] = value;
-  }
-  const system = {
-    name: fields.name,
-    passenger: parseNames(fields.passenger),
-    driver: fields.driver.trim(),
-    parameters,
-    passenger_potential: fields.passenger_potential,
-    driver_potential: fields.driver_potential,
-    constraints: fields.constraints.map((row) => [...row]),
-  };
-  return { system, invalid };
-}
-
-/** Comma-separated names as a list (blank items kept, for the server to name). */
-export function parseNames(text) {
-  const t = String(text).trim();
-  return t === '' ? [] : t.split(',').map((s) => s.trim());
-}
-
-function joinItems(items) {
-  return items.map((s) => String(s).replace(/[%,]/g, (c) => (c === '%' ? '%25' : '%2C'))).join(',');
-}
-
-function splitItems(text) {
-  if (text === '') return [];
-  return text.split(',').map((s) => s.replace(/%(25|2C)/gi, (m) => (m === '%25' ? '%' : ',')));
 }
 
 /** `s` as a part of a file name: lower case, runs of other characters as one `-`. */

@@ -1,5 +1,6 @@
-// Small DOM helpers every view uses: an element with a class and text, a select's option,
-// and a download of text made in the page.
+// Small DOM helpers every view uses: an element with a class and text, a select's option, a
+// text input for names and formulas, a × button that removes something, and a download of
+// text made in the page.
 
 /** `<tag class=className>text</tag>`; class and text only when given. */
 export function el(tag, className, text) {
@@ -15,6 +16,28 @@ export function option(value, text) {
   o.value = value;
   o.textContent = text;
   return o;
+}
+
+/** `<input type=text class=className>` with `value`, no spell check or autocomplete, and an
+ *  accessible `label` when given. */
+export function textInput(className, value, label) {
+  const i = el('input', className);
+  i.type = 'text';
+  i.spellcheck = false;
+  i.autocomplete = 'off';
+  i.value = value;
+  if (label) i.setAttribute('aria-label', label);
+  return i;
+}
+
+/** A × button titled `title`, read out as `label`, calling `onClick`. */
+export function removeButton(title, label, onClick) {
+  const b = el('button', 'icon', '×');
+  b.type = 'button';
+  b.title = title;
+  b.setAttribute('aria-label', label);
+  b.addEventListener('click', onClick);
+  return b;
 }
 
 /** Saves `text` as the file `name` of MIME type `type`. */

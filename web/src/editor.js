@@ -1,146 +1,158 @@
-// The custom-system editor inside the form: name, passenger and driver names, parameters
-// (add/remove), the potentials U and V_d and the constraint rows (add/remove, one entry per
-// passenger). Filled from and read back into the object `"system"` takes in a request. Every
-// input sits in a field whose `data-path` is the API's path for it (`system.constraints[0][1]`,
-// `system.parameters.k`), so the form shows a server error at its input.
+// The custom-system editor inside the form, in the paper's form (passenger and driver names,
+// the potentials U and V_d, constraint rows with one entry per passenger) or the general one
+// (coordinate names, the mass matrix M (massgrid.js), the potential V, constraint rows with
+// one entry per coordinate, named invariants, whether to look for the paper's class); both
+// with a name and parameters (add/remove). Filled from and read back into the object
+// `"system"` takes in a request; "Form" writes the system shown in the other form. Every
+// input sits in a field whose `data-path` is the API's path for it
+// (`system.constraints[0][1]`, `system.mass[1][0]`, `system.parameters.k`,
+// `system.invariants.H_y`), so the form shows a server error at its input.
 
-import { customFromFields, parseNames } from './custom.js';
-import { el } from './dom.js';
+import { cellRow, rowEntries, shapeRow } from './cells.js';
+import { formOf, inForm } from './custom.js';
+import { customFromFields, parseNames } from './customfields.js';
+import { el, removeButton, textInput } from './dom.js';
+import { MassGrid } from './massgrid.js';
 
 const $ = (id) => document.getElementById(id);
+
+// The lists of named values: parameters (numbers) and invariants (formulas).
+const NAMED = {
+  'custom-params': { what: 'parameter', path: 'system.parameters' },
+  'custom-invariants': { what: 'invariant', path: 'system.invariants' },
+};
 
 export class Editor {
   /** `maxParameters`: the server's limit (`limits.formula_parameters`). */
   constructor({ maxParameters }) {
     this.maxParameters = maxParameters ?? 16;
-    $('custom-add-param').addEventListener('click', () => {
-      this.#addParam('', 0);
-      this.#buttons();
-      this.#changed();
-      $('custom-params').lastElementChild?.querySelector('input')?.focus();
-    });
+    this.form = 'paper';
+    this.mass = new MassGrid();
+    for (const [box, button] of [['custom-params', 'custom-add-param'], ['custom-invariants', 'custom-add-invariant']]) {
+      $(button).addEventListener('click', () => {
+        this.#addNamed(box, '', box === 'custom-params' ? 0 : '');
+        this.#buttons();
+        this.#changed();
+        $(box).lastElementChild?.querySelector('input')?.focus();
+      });
+    }
     $('custom-add-row').addEventListener('click', () => {
-      const n = parseNames($('custom-passenger').value).length;
-      this.#addRow(Array.from({ length: n }, () => '0'));
+      $('custom-constraints').append(this.#row(this.#names().map(() => '0')));
       this.#renumber();
       this.#changed();
     });
-    // New passenger names: every row gets one entry per name (kept where it was, 0 added).
-    $('custom-passenger').addEventListener('change', () => this.#reshape());
+    // New names: every row gets one entry per name (kept where it was, 0 added), M too.
+    for (const id of ['custom-passenger', 'custom-coordinates']) $(id).addEventListener('change', () => this.#renumber());
+    // The other form: the system shown, written in it.
+    $('custom-form').addEventListener('change', () => this.fill(inForm(this.read([]), $('custom-form').value)));
   }
 
-  /** Shows a custom system. */
+  /** Shows a custom system, in its form. */
   fill(sys) {
+    this.form = formOf(sys);
+    const general = this.form === 'general';
+    $('custom-form').value = this.form;
+    $('custom-editor').dataset.form = this.form;
     $('custom-name').value = sys.name ?? '';
-    $('custom-passenger').value = sys.passenger.join(', ');
-    $('custom-driver').value = sys.driver ?? '';
-    $('custom-params').replaceChildren();
-    for (const [name, value] of Object.entries(sys.parameters)) this.#addParam(name, value);
-    $('custom-U').value = sys.passenger_potential ?? '';
-    $('custom-Vd').value = sys.driver_potential ?? '';
-    $('custom-constraints').replaceChildren();
-    for (const row of sys.constraints) this.#addRow(row);
+    $('custom-passenger').value = general ? '' : sys.passenger.join(', ');
+    $('custom-driver').value = general ? '' : sys.driver ?? '';
+    $('custom-U').value = general ? '' : sys.passenger_potential ?? '';
+    $('custom-Vd').value = general ? '' : sys.driver_potential ?? '';
+    $('custom-coordinates').value = general ? sys.coordinates.join(', ') : '';
+    $('custom-V').value = general ? sys.potential ?? '' : '';
+    $('custom-detect').checked = !general || sys.detect_class !== false;
+    for (const [box, values] of [['custom-params', sys.parameters], ['custom-invariants', general ? sys.invariants ?? {} : {}]]) {
+      $(box).replaceChildren();
+      for (const [name, value] of Object.entries(values)) this.#addNamed(box, name, value);
+    }
+    this.#buttons();
+    this.mass.fill(general ? sys.mass : undefined, general ? sys.coordinates : []);
+    $('custom-constraints').replaceChildren(...sys.constraints.map((row) => this.#row(row)));
     this.#renumber();
   }
 
   /** The custom system shown; fields that cannot be sent are pushed to `invalid`. */
   read(invalid) {
+    const general = this.form === 'general';
     const { system, invalid: found } = customFromFields({
       name: $('custom-name').value,
-      passenger: $('custom-passenger').value,
-      driver: $('custom-driver').value,
-      parameters: [...$('custom-params').querySelectorAll('.custom-param')].map((row) => [
-        row.querySelector('.param-name').value,
-        row.querySelector('.param-value').value,
-      ]),
-      passenger_potential: $('custom-U').value,
-      driver_potential: $('custom-Vd').value,
-      constraints: [...$('custom-constraints').querySelectorAll('.custom-row')].map((row) =>
-        [...row.querySelectorAll('.custom-cell input')].map((input) => input.value),
-      ),
+      parameters: this.#pairs('custom-params'),
+      constraints: [...$('custom-constraints').children].map(rowEntries),
+      ...(general
+        ? {
+            coordinates: $('custom-coordinates').value,
+            mass: this.mass.read(),
+            potential: $('custom-V').value,
+            invariants: this.#pairs('custom-invariants'),
+            detect_class: $('custom-detect').checked,
+          }
+        : {
+            passenger: $('custom-passenger').value,
+            driver: $('custom-driver').value,
+            passenger_potential: $('custom-U').value,
+            driver_potential: $('custom-Vd').value,
+          }),
     });
     invalid.push(...found);
     return system;
   }
 
-  #addParam(name, value) {
+  // The names the constraint rows have an entry for: the passengers, or the coordinates.
+  #names() {
+    return parseNames($(this.form === 'general' ? 'custom-coordinates' : 'custom-passenger').value);
+  }
+
+  #pairs(box) {
+    return [...$(box).children].map((row) => [row.querySelector('.param-name').value, row.querySelector('.param-value').value]);
+  }
+
+  // A row `name = value`, ×; its path follows its name (`system.parameters.<name>`).
+  #addNamed(box, name, value) {
+    const { what, path } = NAMED[box];
     const row = el('div', 'field custom-param');
-    const nameInput = input('param-name', name, 'parameter name');
-    const valueInput = input('param-value', Number.isNaN(value) ? '' : String(value), `value of ${name || 'the parameter'}`);
-    valueInput.inputMode = 'decimal';
-    const path = () => {
+    const nameInput = textInput('param-name', name, `${what} name`);
+    const valueInput = textInput(box === 'custom-params' ? 'param-value' : 'param-value formula', Number.isNaN(value) ? '' : String(value));
+    if (box === 'custom-params') valueInput.inputMode = 'decimal';
+    const named = () => {
       const n = nameInput.value.trim();
-      row.dataset.path = n ? `system.parameters.${n}` : 'system.parameters';
-      valueInput.setAttribute('aria-label', `value of ${n || 'the parameter'}`);
+      row.dataset.path = n ? `${path}.${n}` : path;
+      valueInput.setAttribute('aria-label', `${what === 'parameter' ? 'value' : 'formula'} of ${n || `the ${what}`}`);
     };
-    nameInput.addEventListener('input', path);
-    path();
-    const remove = el('button', 'icon', '×');
-    remove.type = 'button';
-    remove.title = 'Remove this parameter';
-    remove.setAttribute('aria-label', 'remove this parameter');
-    remove.addEventListener('click', () => {
+    nameInput.addEventListener('input', named);
+    named();
+    const remove = removeButton(`Remove this ${what}`, `remove this ${what}`, () => {
       row.remove();
       this.#buttons();
       this.#changed();
     });
     row.append(nameInput, el('span', 'eq', '='), valueInput, remove);
-    $('custom-params').append(row);
-    this.#buttons();
+    $(box).append(row);
   }
 
-  #addRow(entries) {
-    const row = el('div', 'custom-row');
-    for (const entry of entries) {
-      const cell = el('label', 'custom-cell field');
-      cell.append(el('span', 'cell-name'), input('formula', entry));
-      row.append(cell);
-    }
-    const remove = el('button', 'icon', '×');
-    remove.type = 'button';
-    remove.title = 'Remove this constraint';
-    remove.setAttribute('aria-label', 'remove this constraint');
-    remove.addEventListener('click', () => {
-      row.remove();
-      this.#renumber();
-      this.#changed();
+  #row(entries) {
+    return cellRow(entries, {
+      what: 'constraint',
+      onRemove: () => {
+        this.#renumber();
+        this.#changed();
+      },
     });
-    row.append(remove);
-    $('custom-constraints').append(row);
   }
 
-  #reshape() {
-    const names = parseNames($('custom-passenger').value);
-    for (const row of $('custom-constraints').querySelectorAll('.custom-row')) {
-      const cells = [...row.querySelectorAll('.custom-cell')];
-      const values = cells.map((c) => c.querySelector('input').value);
-      for (const c of cells) c.remove();
-      const remove = row.lastElementChild;
-      names.forEach((_, j) => {
-        const cell = el('label', 'custom-cell field');
-        cell.append(el('span', 'cell-name'), input('formula', values[j] ?? '0'));
-        row.insertBefore(cell, remove);
-      });
-    }
-    this.#renumber();
-  }
-
-  // Paths and labels follow the rows' order and the passenger names; a system keeps at least
-  // one constraint, and at most one fewer than its passengers.
+  // Paths and labels follow the rows' order and the names; a system keeps at least one
+  // constraint, and at most one fewer than its passengers (its coordinates).
   #renumber() {
-    const names = parseNames($('custom-passenger').value);
-    const rows = [...$('custom-constraints').querySelectorAll('.custom-row')];
+    const names = this.#names();
+    const general = this.form === 'general';
+    const rows = [...$('custom-constraints').children];
     rows.forEach((row, i) => {
       row.dataset.path = `system.constraints[${i}]`;
-      row.querySelectorAll('.custom-cell').forEach((cell, j) => {
-        const name = names[j] ?? `#${j + 1}`;
-        cell.dataset.path = `system.constraints[${i}][${j}]`;
-        cell.querySelector('.cell-name').textContent = name;
-        cell.querySelector('input').setAttribute('aria-label', `constraint ${i + 1}, coefficient of the velocity of ${name}`);
-      });
-      row.querySelector('.icon').disabled = rows.length <= 1;
+      shapeRow(row, names, `system.constraints[${i}]`, (name) => `constraint ${i + 1}, coefficient of the velocity of ${name}`, () => '0');
+      row.querySelector(':scope > .icon').disabled = rows.length <= 1;
     });
     $('custom-add-row').disabled = rows.length >= Math.max(1, names.length - 1);
+    $('custom-constraints-label').textContent = general ? 'Constraints A(q) q̇ = 0' : 'Constraints A(ζ) ẋ = 0';
+    if (general) this.mass.rename(names);
   }
 
   #buttons() {
@@ -151,14 +163,4 @@ export class Editor {
   #changed() {
     $('custom-editor').dispatchEvent(new Event('change', { bubbles: true }));
   }
-}
-
-function input(className, value, label) {
-  const i = el('input', className);
-  i.type = 'text';
-  i.spellcheck = false;
-  i.autocomplete = 'off';
-  i.value = value;
-  if (label) i.setAttribute('aria-label', label);
-  return i;
 }

@@ -2,17 +2,24 @@
 // showing errors next to the field an API error's `path` names (`params.epsilon`,
 // `methods[1].alpha`, `q[2]`, `system.constraints[0][1]`, …). Every field carries a
 // `data-path` for that lookup. "Custom system" in the system select shows the editor
-// (editor.js) in place of the preset and parameters.
+// (editor.js) in place of the preset and parameters. A built-in is shown with whether it is
+// in the paper's class, and offers the methods that apply to it.
 
-import { defaultWindow, findPreset, findSystem } from './catalog.js';
-import { CUSTOM, customIntegrals, isCustom, startingPoints } from './custom.js';
+import { defaultWindow, findPreset, findSystem, methodsFor, paperClassLine } from './catalog.js';
+import { CLASS_ONLY, CUSTOM, coordinateNames, customIntegrals, defaultCustomIntegrals, isCustom, isGeneral, startingPoints } from './custom.js';
 import { Editor } from './editor.js';
 import { parseList } from './state.js';
 import { methodStyle } from './palette.js';
 import { swatch } from './markers.js';
-import { el, option } from './dom.js';
-import { humanLabel } from './labels.js';
+import { el, option, removeButton } from './dom.js';
+import { humanLabel, symbol } from './labels.js';
 import { INTEGRAL_NAME } from './verdicts.js';
+
+// What the form says of a custom system, per form.
+const CUSTOM_TEXT = {
+  paper: ['A system of your own, as formulas: passengers x with potential U, a driver ζ with potential V_d, and A(ζ) ẋ = 0.', 'In the paper’s class by its form.'],
+  general: ['A system of your own, as formulas: coordinates q, a constant mass matrix M, a potential V(q), constraints A(q) q̇ = 0 and named invariants.', 'Whether it is in the paper’s class is found when it runs.'],
+};
 
 const $ = (id) => document.getElementById(id);
 
@@ -20,15 +27,29 @@ export class Form {
   constructor(catalog) {
     this.catalog = catalog;
     this.el = $('form');
+    this.offered = [];
     $('system').replaceChildren(...catalog.systems.map((s) => option(s.id, s.name)), option(CUSTOM, 'Custom system (formulas)…'));
-    $('custom-start').replaceChildren(option('', 'Pick a built-in system…'), ...startingPoints(catalog).map((s) => option(s.id, s.name)));
-    $('add-method-id').replaceChildren(...catalog.methods.map((m) => option(m.id, humanLabel(m.name))));
+    // "Start from": every built-in in the general form, those of the paper's class in its form.
+    const starts = startingPoints(catalog);
+    const group = (label, form, systems) => {
+      const g = el('optgroup');
+      g.label = label;
+      g.append(...systems.map((s) => option(`${form}:${s.id}`, s.name)));
+      return g;
+    };
+    $('custom-start').replaceChildren(
+      option('', 'Pick a built-in system…'),
+      group('In the paper’s form', 'paper', starts.paper),
+      group('In the general form', 'general', starts.general),
+    );
     this.editor = new Editor({ maxParameters: catalog.limits?.formula_parameters });
-    // Editing the custom system's shape changes the integrals it may have and q's size.
+    // Editing the custom system's shape changes the integrals it may have and q's size; an
+    // invariant just named is measured.
     $('custom-editor').addEventListener('change', () => {
       if ($('system').value !== CUSTOM) return;
-      const checked = this.#checkedIntegrals();
-      this.#custom(this.editor.read([]), checked);
+      const sys = this.editor.read([]);
+      const added = defaultCustomIntegrals(sys).filter((i) => !this.offered.includes(i));
+      this.#custom(sys, [...this.#checkedIntegrals(), ...added]);
     });
   }
 
@@ -41,15 +62,19 @@ export class Form {
     if (custom) {
       $('system').value = CUSTOM;
       $('custom-start').value = '';
-      $('system-description').textContent = 'A system of your own, as formulas: passengers x with potential U, a driver ζ with potential V_d, and A(ζ) ẋ = 0.';
       $('preset').replaceChildren(option('', 'None'));
       this.#params({ params: [] }, {});
       this.editor.fill(state.system);
       this.#custom(state.system, state.integrals);
+      this.#methodChoice(this.catalog.methods);
     } else {
       const system = findSystem(this.catalog, state.system);
       $('system').value = system.id;
       $('system-description').textContent = system.description ?? '';
+      // Found at its default parameters; a run reports the scene's own.
+      const defaults = system.params.length ? ' (at its defaults)' : '';
+      $('system-class').textContent = paperClassLine(system.paper_class, defaults);
+      $('system-class').dataset.member = String(Boolean(system.paper_class?.member));
       $('preset').replaceChildren(
         ...(system.presets ?? []).map((p) => option(p.id, p.label)),
         option('', 'None (system defaults)'),
@@ -59,8 +84,9 @@ export class Form {
       // An empty step or final time runs the preset's: the placeholders show its values.
       const preset = findPreset(system, state.preset);
       const shown = (v) => (Number.isFinite(v) ? `${Number(v.toPrecision(6))} (preset)` : '');
-      this.#placeholders(`${system.dof} numbers`, shown(preset?.step), shown(preset?.t_end));
+      this.#placeholders(sizeHint(system, preset), shown(preset?.step), shown(preset?.t_end));
       this.#integrals(system.integrals, state.integrals);
+      this.#methodChoice(methodsFor(this.catalog, system.id));
     }
     $('q').value = state.q.map(String).join(', ');
     $('v').value = state.v.map(String).join(', ');
@@ -100,15 +126,11 @@ export class Form {
       if (Number.isFinite(p.max)) input.max = p.max;
       setNumber(input, params[p.name] ?? p.default);
       input.title = p.description ?? p.name;
-      wrap.append(el('span', 'method-param-name', `${GREEK[p.name] ?? p.name} =`), input);
+      wrap.append(el('span', 'method-param-name', `${symbol(p.name)} =`), input);
       row.append(wrap);
     }
     if (info.composable && this.catalog.compositions?.length) row.append(this.#compositionPicker(info, composition));
-    const remove = el('button', 'icon', '×');
-    remove.type = 'button';
-    remove.title = 'Remove this method';
-    remove.setAttribute('aria-label', `remove ${info.name}`);
-    remove.addEventListener('click', () => {
+    const remove = removeButton('Remove this method', `remove ${info.name}`, () => {
       row.remove();
       this.el.dispatchEvent(new Event('change', { bubbles: true }));
     });
@@ -135,12 +157,24 @@ export class Form {
     return wrap;
   }
 
-  // A custom system's integrals and the sizes of q and q̇ (its names, the driver last); the
-  // server's defaults for an empty step and final time.
+  // The methods the "Add method" select offers: those that apply to the system.
+  #methodChoice(methods) {
+    $('add-method-id').replaceChildren(...methods.map((m) => option(m.id, humanLabel(m.name))));
+  }
+
+  // A custom system's description, integrals and the sizes of q and q̇ (its names, the
+  // driver last in the paper's form); the server's defaults for an empty step and final time.
+  // In the general form the passenger and driver energies exist only where the paper's class
+  // is found, and say so.
   #custom(sys, checked) {
-    const names = [...sys.passenger, sys.driver].join(', ');
-    this.#placeholders(`${sys.passenger.length + 1} numbers: ${names}`, '0.1', '100');
-    this.#integrals(customIntegrals(sys), checked);
+    const names = coordinateNames(sys);
+    const [description, what] = CUSTOM_TEXT[isGeneral(sys) ? 'general' : 'paper'];
+    $('system-description').textContent = description;
+    $('system-class').textContent = what;
+    delete $('system-class').dataset.member;
+    this.#placeholders(`${names.length} numbers: ${names.join(', ')}`, '0.1', '100');
+    const classOnly = isGeneral(sys) ? CLASS_ONLY : [];
+    this.#integrals(customIntegrals(sys), checked, (id) => (classOnly.includes(id) ? ' (in the paper’s class only)' : ''));
   }
 
   #placeholders(q, step, tEnd) {
@@ -150,7 +184,9 @@ export class Form {
     $('t_end').placeholder = tEnd;
   }
 
-  #integrals(offered, checked) {
+  // `note(id)`: what to add to an integral's name.
+  #integrals(offered, checked, note = () => '') {
+    this.offered = offered;
     $('integrals').replaceChildren(
       ...offered.map((id) => {
         const label = el('label', 'check');
@@ -161,7 +197,7 @@ export class Form {
         box.checked = checked.includes(id);
         // The integral's name, its API id on hover (what a link or a script writes).
         label.title = id;
-        label.append(box, document.createTextNode(` ${INTEGRAL_NAME[id] ?? id}`));
+        label.append(box, document.createTextNode(` ${INTEGRAL_NAME[id] ?? id}${note(id)}`));
         return label;
       }),
     );
@@ -327,14 +363,16 @@ export class Form {
 }
 
 // A parameter named after a Greek letter is shown as the letter.
-const GREEK = Object.fromEntries(
-  'alpha beta gamma delta epsilon zeta eta theta iota kappa lambda mu nu xi omicron pi rho sigma tau upsilon phi chi psi omega'
-    .split(' ')
-    .map((name, i) => [name, String.fromCodePoint(0x3b1 + i + (i >= 17 ? 1 : 0))]),
-);
-
 function paramSymbol(name) {
-  return GREEK[name] ? `${GREEK[name]} (${name})` : name;
+  return symbol(name) === name ? name : `${symbol(name)} (${name})`;
+}
+
+// What q(0) and q̇(0) take: the preset's size where it has one (a parameter may change the
+// number of coordinates), with the coordinates' names where they are that many.
+function sizeHint(system, preset) {
+  const names = system.general?.coordinates ?? [];
+  const n = preset?.q?.length ?? system.dof;
+  return names.length === n ? `${n} numbers: ${names.join(', ')}` : `${n} numbers`;
 }
 
 // (-1, 1) for open bounds, [-10, 10] for closed ones.

@@ -45,7 +45,8 @@ const FIELDS = {
 
 const GREEK = 'alpha beta gamma delta epsilon zeta eta theta iota kappa lambda mu nu xi omicron pi rho sigma tau upsilon phi chi psi omega'.split(' ');
 
-function symbol(name) {
+/** A name of a Greek letter as the letter (`epsilon` → `ε`); any other name as it is. */
+export function symbol(name) {
   const i = GREEK.indexOf(name);
   return i < 0 ? name : String.fromCodePoint(0x3b1 + i + (i >= 17 ? 1 : 0));
 }

@@ -5,7 +5,8 @@
 // `?view=work-precision` / `?view=map` (the last two with the form's scene); clicking a
 // scorecard or map cell opens its scene here. "Custom system" in the system select opens the
 // formula editor, filled from the system shown or from the built-in its "Start from" select
-// picks (the form's moves between states are in transitions.js).
+// picks, in the paper's form or the general one (the form's moves between states are in
+// transitions.js). The results say whether the scene's system is in the paper's class.
 
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
@@ -18,7 +19,7 @@ import { MapView } from './map.js';
 import { Plots } from './plots.js';
 import { Result } from './result.js';
 import { renderRuns } from './runs.js';
-import { paperExperiments } from './catalog.js';
+import { paperClassLine, paperExperiments } from './catalog.js';
 import { CUSTOM, sceneCaption, sceneStem } from './custom.js';
 import { decodeState, encodeState, requestBody } from './state.js';
 import { customized, experiment, presetSwitched, sceneOpened, startedFrom, systemSwitched } from './transitions.js';
@@ -187,10 +188,12 @@ function switchSystem() {
   form.fill(systemSwitched(catalog, form.read().state, $('system').value));
 }
 
-function startFrom(id) {
-  if (!id) return;
-  form.fill(startedFrom(catalog, form.read().state, id));
-  $('custom-start').value = id;
+// A "Start from" choice is `<form>:<system id>`.
+function startFrom(value) {
+  if (!value) return;
+  const [start, id] = value.split(':');
+  form.fill(startedFrom(catalog, form.read().state, id, start));
+  $('custom-start').value = value;
 }
 
 function syncURL(run = false) {
@@ -214,19 +217,23 @@ async function run() {
   setBusy(true);
   progress(0);
   status('running', 'Starting…');
+  $('scene-class').hidden = true;
   showResults();
   let finished = false;
   let shutdown = null;
   stepNote = '';
   try {
     // A busy server (503) is waited out as the other views do.
-    await retrying(() => simulate(requestBody(state), {
+    await retrying(() => simulate(requestBody(state, catalog), {
       signal: mine.signal,
       onEvent: (name, data) => {
         if (controller !== mine) return;
         if (name === 'scene') {
           result = new Result(data);
           plots.reset(result);
+          $('scene-class').textContent = paperClassLine(data.paper_class);
+          $('scene-class').dataset.member = String(Boolean(data.paper_class?.member));
+          $('scene-class').hidden = !data.paper_class;
           $('download-json').disabled = false;
           $('download-csv').disabled = false;
           // An empty Step field runs the preset's (or the server's) step: say which.

@@ -110,7 +110,7 @@ export class MapView {
     try {
       await retrying(
         () =>
-          sweep(sweepBody(state, settings), {
+          sweep(sweepBody(state, settings, this.catalog), {
             signal: mine.signal,
             onEvent: (name, data) => {
               if (this.controller !== mine) return;

@@ -6,7 +6,7 @@
 import { KINDS, MAX_AXES, cellCount, checkAxis, expandAxis } from './sweep.js';
 import { fmt } from './sweepresult.js';
 import { parseList } from './state.js';
-import { el, option } from './dom.js';
+import { el, option, removeButton, textInput } from './dom.js';
 
 const KIND_TEXT = {
   linspace: ['evenly spaced', 'start, stop, count'],
@@ -130,21 +130,18 @@ export class MapControls {
       const where = axes.length === 1 ? 'Axis (along x)' : i === 0 ? 'First axis (rows, y)' : 'Last axis (columns, x)';
       head.append(el('span', 'label', where));
       if (axes.length > 1) {
-        const remove = el('button', 'icon', '×');
-        remove.type = 'button';
-        remove.title = 'Remove this axis';
-        remove.setAttribute('aria-label', `remove axis ${i + 1}`);
-        remove.addEventListener('click', () => {
-          const now = this.readAxes();
-          now.splice(i, 1);
-          this.#axes(now);
-          this.changed();
-        });
-        head.append(remove);
+        head.append(
+          removeButton('Remove this axis', `remove axis ${i + 1}`, () => {
+            const now = this.readAxes();
+            now.splice(i, 1);
+            this.#axes(now);
+            this.changed();
+          }),
+        );
       }
       const pathField = el('div', 'field');
       pathField.dataset.path = `axes[${i}].path`;
-      const pathInput = input('axis-path', a.path, `Axis ${i + 1}: what it sets`);
+      const pathInput = textInput('axis-path', a.path, `Axis ${i + 1}: what it sets`);
       pathInput.setAttribute('list', 'map-paths');
       pathInput.placeholder = 'params.<name>, step, q[0], methods.<name>…';
       pathField.append(labelFor(pathInput, 'Sets'), pathInput);
@@ -154,7 +151,7 @@ export class MapControls {
       kind.value = a.kind;
       const numbersField = el('div', 'field');
       numbersField.dataset.path = `axes[${i}].${a.kind}`;
-      const numbers = input('axis-numbers', a.numbers.map(String).join(', '), `Axis ${i + 1}: ${KIND_TEXT[a.kind][1]}`);
+      const numbers = textInput('axis-numbers', a.numbers.map(String).join(', '), `Axis ${i + 1}: ${KIND_TEXT[a.kind][1]}`);
       numbers.inputMode = 'decimal';
       numbersField.append(labelFor(numbers, KIND_TEXT[a.kind][1]), numbers);
       kind.addEventListener('change', () => {
@@ -190,16 +187,6 @@ export class MapControls {
 export function preview(values) {
   const shown = values.length <= 6 ? values.map(fmt) : [...values.slice(0, 3).map(fmt), '…', fmt(values[values.length - 1])];
   return `${values.length} value${values.length === 1 ? '' : 's'}: ${shown.join(', ')}`;
-}
-
-function input(className, value, label) {
-  const i = el('input', className);
-  i.type = 'text';
-  i.value = value;
-  i.spellcheck = false;
-  i.autocomplete = 'off';
-  i.setAttribute('aria-label', label);
-  return i;
 }
 
 let ids = 0;

@@ -60,7 +60,8 @@ export class Plots {
     this.destroy();
     this.result = result;
     for (const integral of result.scene.integrals ?? []) {
-      const [title, subtitle] = INTEGRALS[integral] ?? [integral, 'error'];
+      // A named invariant of the system (its name as the system gives it).
+      const [title, subtitle] = INTEGRALS[integral] ?? [`Invariant ${integral}`, `|${integral}(t) − ${integral}(0)|`];
       const card = el('section', 'plot-card');
       card.dataset.integral = integral;
       const head = el('header', 'plot-head');

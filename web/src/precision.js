@@ -48,10 +48,11 @@ export function readSettings(raw, tEnd) {
   return { settings: { levels: levels ?? DEFAULT_LEVELS, repeats: repeats ?? DEFAULT_REPEATS, steps }, errors };
 }
 
-/** The body of `POST /work-precision`: the form's scene and methods, and either the list of
- *  `steps` or `levels` halvings of the scene's step. */
-export function workPrecisionBody(state, { levels = DEFAULT_LEVELS, repeats = DEFAULT_REPEATS, steps = null } = {}) {
-  const body = requestBody(state);
+/** The body of `POST /work-precision`: the form's scene and methods (as `requestBody` writes
+ *  them with the `catalog`), and either the list of `steps` or `levels` halvings of the
+ *  scene's step. */
+export function workPrecisionBody(state, { levels = DEFAULT_LEVELS, repeats = DEFAULT_REPEATS, steps = null } = {}, catalog) {
+  const body = requestBody(state, catalog);
   delete body.points;
   if (steps?.length) body.steps = steps;
   else body.levels = levels;

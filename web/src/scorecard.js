@@ -1,12 +1,14 @@
-// The Scorecard view: posts `/scorecard` (every method × the paper's six scenes) and shows
-// a grid — a row per method, a column per scene and integral, each cell coloured by its
-// verdict — with the method's measured properties (reversible, preserves the fibration) per
-// system beside it, a legend and the server's criterion. Clicking a cell opens that scene
-// in the main view with the scorecard's methods.
+// The Scorecard view: posts `/scorecard` (every method × the paper's six scenes and the
+// literature's seven) and shows two grids, a row per method in each: the method's measured
+// properties (reversible, symmetric, preserves the fibration) per system, and the verdict of
+// each integral's error per scene, the scenes grouped by system, each cell coloured by its
+// verdict. A method that has no step for a system (one made for the paper's class alone, on
+// a system outside it) is marked "n/a" with the reason on hover, not as a failure. Clicking a
+// verdict opens that scene in the main view with the scorecard's methods that apply to it.
 
 import { ApiError, fetchScorecard, retrying } from './api.js';
-import { findPreset, findSystem, presetLabel, systemShortName } from './catalog.js';
-import { INTEGRAL_NAME, INTEGRAL_SHORT, VERDICTS, propertyMark, sceneIntegrals, systemsOf, verdictTitle } from './verdicts.js';
+import { findPreset, findSystem, panelTitles, paperClassLine, presetLabel, systemShortName } from './catalog.js';
+import { INTEGRAL_NAME, INTEGRAL_SHORT, MARKS, PROPERTIES, VERDICTS, notApplicable, propertyMark, sceneIntegrals, systemsOf, verdictTitle } from './verdicts.js';
 import { el } from './dom.js';
 import { humanLabel } from './labels.js';
 
@@ -33,7 +35,7 @@ export class ScorecardView {
     this.controller?.abort();
     const mine = new AbortController();
     this.controller = mine;
-    this.#status('running', 'Computing the scorecard: every method on the paper’s scenes…');
+    this.#status('running', 'Computing the scorecard: every method on the paper’s and the literature’s scenes…');
     try {
       this.card = await retrying(
         () => fetchScorecard({}, { signal: mine.signal }),
@@ -42,9 +44,11 @@ export class ScorecardView {
       );
       if (this.controller !== mine) return;
       this.render();
-      const runs = this.card.scenes.reduce((n, s) => n + s.runs.length, 0);
-      const failed = this.card.scenes.reduce((n, s) => n + s.runs.filter((r) => r.status !== 'ok').length, 0);
-      this.#status(failed ? 'done-failed' : 'done', `Done: ${runs} runs on ${this.card.scenes.length} scenes${failed ? `, ${failed} failed` : ''}. Click a cell to open its scene.`);
+      const runs = this.card.scenes.flatMap((s) => s.runs);
+      const failed = runs.filter((r) => r.status === 'failed').length;
+      const na = runs.filter(notApplicable).length;
+      const extra = [failed ? `${failed} failed` : '', na ? `${na} not applicable` : ''].filter(Boolean).join(', ');
+      this.#status(failed ? 'done-failed' : 'done', `Done: ${runs.length - na} runs on ${this.card.scenes.length} scenes${extra ? ` (${extra})` : ''}. Click a cell to open its scene.`);
     } catch (e) {
       if (this.controller !== mine || e.name === 'AbortError') return;
       const where = e instanceof ApiError && e.path ? ` (field ${e.path})` : '';
@@ -56,89 +60,115 @@ export class ScorecardView {
 
   render() {
     const card = this.card;
+    const item = (className, mark, text) => {
+      const i = el('span', 'legend-item');
+      i.append(el('span', className, mark), ` ${text}`);
+      return i;
+    };
     this.legend.replaceChildren(
-      ...VERDICTS.map((v) => {
-        const item = el('span', 'legend-item');
-        item.append(el('span', `verdict-cell ${v.kind}`, v.letter), ` ${v.label}: ${v.text}`);
-        return item;
-      }),
+      ...VERDICTS.map((v) => item(`verdict-cell ${v.kind}`, v.letter, `${v.label}: ${v.text}`)),
+      item('verdict-cell not_applicable', 'n/a', 'the method does not apply to the system'),
+      item('verdict-cell none', '–', 'no verdict (no data)'),
       el('p', 'criterion', `Criterion: ${card.criterion}`),
       el('p', 'criterion', `Properties: ${card.properties_test}`),
     );
+    this.grid.replaceChildren(el('h3', 'scorecard-caption', 'Properties, per system'), this.#properties(), el('h3', 'scorecard-caption', 'Verdicts, per scene'), this.#verdicts());
+  }
+
+  // A row per method; per system, a mark per property.
+  #properties() {
+    const card = this.card;
     const systems = systemsOf(card);
-    const table = el('table', 'scorecard');
-    const head1 = el('tr');
-    const head2 = el('tr');
-    const method = el('th', 'method-head', 'Method');
-    method.rowSpan = 2;
-    method.scope = 'col';
-    const props = el('th', 'group', 'Reversible · fibration');
-    props.colSpan = systems.length * 2;
-    props.title = card.properties_test;
-    head1.append(method, props);
-    for (const [system] of systems) {
-      for (const [short, long] of [['rev', 'reversible'], ['fib', 'preserves the fibration']]) {
-        const th = el('th', 'prop-head', short);
-        th.title = `${long} on ${system}`;
-        const sub = el('small', '', systemShortName(findSystem(this.catalog, system)) || system);
-        th.append(el('br'), sub);
-        head2.append(th);
-      }
-    }
-    for (const s of card.scenes) {
-      // A narrow empty column between scenes keeps the groups apart.
-      head1.append(el('th', 'gap'));
-      head2.append(el('th', 'gap'));
-      const th = el('th', 'group', sceneLabel(this.catalog, s));
-      th.colSpan = sceneIntegrals(s).length;
-      th.title = s.id;
+    const [head1, head2] = [el('tr'), el('tr')];
+    head1.append(methodHead(2));
+    for (const [id] of systems) {
+      const system = findSystem(this.catalog, id);
+      const th = el('th', 'group', systemShortName(system) || id);
+      th.colSpan = PROPERTIES.length;
+      th.title = [system?.name ?? id, paperClassLine(system?.paper_class)].filter(Boolean).join(': ');
       head1.append(th);
-      for (const integral of sceneIntegrals(s)) {
-        const h = el('th', 'integral-head', INTEGRAL_SHORT[integral] ?? integral);
-        h.title = INTEGRAL_NAME[integral] ?? integral;
+      for (const p of PROPERTIES) {
+        const h = el('th', 'prop-head', p.short);
+        h.title = `${p.name} on ${system?.name ?? id}`;
         head2.append(h);
       }
     }
-    const thead = el('thead');
-    thead.append(head1, head2);
-    const tbody = el('tbody');
-    card.methods.forEach((m, mi) => {
-      const tr = el('tr');
-      tr.dataset.method = m.label;
-      tr.append(el('th', 'method', humanLabel(m.label)));
+    const body = card.methods.map((m, mi) => {
+      const tr = methodRow(m);
       for (const [system] of systems) {
-        for (const property of ['reversible', 'preserves_fibration']) {
-          const { mark, title } = propertyMark(card, mi, system, property);
-          const td = el('td', `prop ${mark}`, { yes: '✓', no: '✗', mixed: '±', unknown: '?' }[mark]);
+        for (const p of PROPERTIES) {
+          const { mark, title } = propertyMark(card, mi, system, p.id);
+          const td = el('td', `prop ${mark}`, MARKS[mark][0]);
           td.title = title;
-          td.dataset.property = property;
-          td.dataset.system = system;
-          td.dataset.mark = mark;
+          Object.assign(td.dataset, { property: p.id, system, mark });
           tr.append(td);
         }
       }
+      return tr;
+    });
+    return table('scorecard scorecard-properties', [head1, head2], body);
+  }
+
+  // A row per method; per scene (grouped by system), a verdict per integral.
+  #verdicts() {
+    const card = this.card;
+    const [head1, head2, head3] = [el('tr'), el('tr'), el('tr')];
+    head1.append(methodHead(3));
+    const groups = systemGroups(card.scenes);
+    // A narrow empty column before each scene keeps the groups and scenes apart.
+    for (const group of groups) {
+      const system = findSystem(this.catalog, group.system);
+      const th = el('th', 'group', systemShortName(system) || group.system);
+      th.colSpan = group.scenes.reduce((n, s) => n + sceneIntegrals(s).length, group.scenes.length - 1);
+      th.title = system?.name ?? group.system;
+      head1.append(el('th', 'gap'), th);
+      const titles = sceneTitles(this.catalog, group.scenes);
+      group.scenes.forEach((s, i) => {
+        const h = el('th', 'scene-head', titles[i]);
+        h.colSpan = sceneIntegrals(s).length;
+        h.title = [s.id, paperClassLine(s.scene.paper_class)].filter(Boolean).join(': ');
+        head2.append(el('th', 'gap'), h);
+        head3.append(el('th', 'gap'));
+        for (const integral of sceneIntegrals(s)) {
+          const ih = el('th', 'integral-head', INTEGRAL_SHORT[integral] ?? integral);
+          ih.title = INTEGRAL_NAME[integral] ?? integral;
+          head3.append(ih);
+        }
+      });
+    }
+    const body = card.methods.map((m, mi) => {
+      const tr = methodRow(m);
       for (const s of card.scenes) {
         tr.append(el('td', 'gap'));
-        const run = s.runs[mi];
-        for (const integral of sceneIntegrals(s)) {
-          const v = run?.verdicts?.[integral];
-          const kind = v?.kind ?? 'none';
-          const td = el('td', `verdict-cell ${kind}`, VERDICTS.find((x) => x.kind === kind)?.letter ?? '–');
-          const failed = run?.status === 'failed' ? ` (run failed: ${run.error})` : '';
-          td.title = verdictTitle(v, `${humanLabel(m.label)}, ${s.id}, ${INTEGRAL_NAME[integral] ?? integral}${failed}: `);
-          Object.assign(td.dataset, { scene: s.id, integral, kind });
-          td.tabIndex = 0;
-          td.addEventListener('click', () => this.onOpen(s.scene, card.methods));
-          td.addEventListener('keydown', (e) => {
-            if (e.key === 'Enter') this.onOpen(s.scene, card.methods);
-          });
-          tr.append(td);
-        }
+        for (const integral of sceneIntegrals(s)) tr.append(this.#cell(m, s, s.runs[mi], integral));
       }
-      tbody.append(tr);
+      return tr;
     });
-    table.append(thead, tbody);
-    this.grid.replaceChildren(table);
+    return table('scorecard scorecard-verdicts', [head1, head2, head3], body);
+  }
+
+  // A run's verdict on an integral; "n/a" for a method without a step for the system.
+  #cell(m, s, run, integral) {
+    const who = `${humanLabel(m.label)}, ${s.id}`;
+    if (notApplicable(run)) {
+      const td = el('td', 'verdict-cell not_applicable', 'n/a');
+      td.title = `${who}: not applicable${run.error ? `: ${run.error}` : ''}`;
+      Object.assign(td.dataset, { scene: s.id, integral, kind: 'not_applicable' });
+      return td;
+    }
+    const v = run?.verdicts?.[integral];
+    const kind = v?.kind ?? 'none';
+    const td = el('td', `verdict-cell ${kind}`, VERDICTS.find((x) => x.kind === kind)?.letter ?? '–');
+    const failed = run?.status === 'failed' ? ` (run failed: ${run.error})` : '';
+    td.title = verdictTitle(v, `${who}, ${INTEGRAL_NAME[integral] ?? integral}${failed}: `);
+    Object.assign(td.dataset, { scene: s.id, integral, kind });
+    td.tabIndex = 0;
+    const open = () => this.onOpen(s.scene, this.card.methods.filter((_, i) => !notApplicable(s.runs[i])));
+    td.addEventListener('click', open);
+    td.addEventListener('keydown', (e) => {
+      if (e.key === 'Enter') open();
+    });
+    return td;
   }
 
   #status(state, text) {
@@ -147,9 +177,54 @@ export class ScorecardView {
   }
 }
 
-/** A scene's column label: the preset's label without "Paper: ", else its id. */
-export function sceneLabel(catalog, s) {
-  const preset = findPreset(findSystem(catalog, s.scene.system), s.scene.preset);
-  const label = preset ? presetLabel(preset) : s.id;
-  return s.id.includes('#') ? `${label} (${s.id.split('#')[1]})` : label;
+/** Consecutive scenes of one system, in order: [{system, scenes}]. */
+export function systemGroups(scenes) {
+  const groups = [];
+  for (const s of scenes) {
+    const last = groups[groups.length - 1];
+    if (last?.system === s.scene.system) last.scenes.push(s);
+    else groups.push({ system: s.scene.system, scenes: [s] });
+  }
+  return groups;
+}
+
+/**
+ * The column heads of one system's scenes: each preset's label without "Paper: " and without
+ * what every label of the group starts with (`panelTitles`); a label far wider than its
+ * columns gives way to the preset's id (the label is on hover). A repeated scene adds its
+ * index.
+ */
+export function sceneTitles(catalog, scenes) {
+  const presets = scenes.map((s) => findPreset(findSystem(catalog, s.scene.system), s.scene.preset));
+  const titles = panelTitles(presets.map((p, i) => (p ? presetLabel(p) : scenes[i].id)));
+  return titles.map((title, i) => {
+    const s = scenes[i];
+    const room = 7 * sceneIntegrals(s).length;
+    const short = title.length > room && presets[i] ? presets[i].id : title;
+    return s.id.includes('#') ? `${short} (${s.id.split('#')[1]})` : short;
+  });
+}
+
+function methodHead(rows) {
+  const th = el('th', 'method-head', 'Method');
+  th.rowSpan = rows;
+  th.scope = 'col';
+  return th;
+}
+
+function methodRow(m) {
+  const tr = el('tr');
+  tr.dataset.method = m.label;
+  tr.append(el('th', 'method', humanLabel(m.label)));
+  return tr;
+}
+
+function table(className, heads, rows) {
+  const t = el('table', className);
+  const thead = el('thead');
+  thead.append(...heads);
+  const tbody = el('tbody');
+  tbody.append(...rows);
+  t.append(thead, tbody);
+  return t;
 }

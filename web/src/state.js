@@ -6,12 +6,15 @@
 // `methods=<id>:0.5,<id>:0.4,<id>`, and a composition after `@`
 // (`<id>@<composition>`). The defaults (methods, window) come from the catalog by the rules of
 // catalog.js. A custom system (custom.js) is written field by field instead of
-// `system` and `preset`; it has no preset, so its initial state and times are written too:
+// `system` and `preset` (customurl.js); it has no preset, so its initial state and times are
+// written too:
 //   ?custom=<name>&passenger=x1,x2&driver=zeta&param.k=1&U=…&Vd=…&A=…&q=…&v=…&step=…&t_end=…
-// Pure functions over the /systems catalog.
+// A link's methods that do not apply to its system (one made for the paper's class alone, on
+// a system outside it) are left out with a warning. Pure functions over the /systems catalog.
 
-import { defaultMethods, defaultWindow, findPreset, findSystem } from './catalog.js';
-import { copyCustom, decodeCustom, defaultCustomIntegrals, encodeCustom, isCustom } from './custom.js';
+import { applicable, defaultMethods, defaultWindow, findMethod, findPreset, findSystem } from './catalog.js';
+import { copyCustom, defaultCustomIntegrals, isCustom } from './custom.js';
+import { decodeCustom, encodeCustom } from './customurl.js';
 
 export { defaultWindow, findPreset, findSystem };
 
@@ -31,7 +34,7 @@ export function defaultState(catalog, systemId, presetId) {
     step: preset?.step ?? null,
     t_end: preset?.t_end ?? null,
     points: 1000,
-    methods: defaultMethods(catalog),
+    methods: applicable(catalog, system.id, defaultMethods(catalog)),
     integrals: [...system.integrals],
     stat: 'mean',
     smooth: false,
@@ -53,7 +56,7 @@ export function defaultCustomState(catalog, sys) {
     t_end: null,
     points: 1000,
     methods: defaultMethods(catalog),
-    integrals: defaultCustomIntegrals(),
+    integrals: defaultCustomIntegrals(sys),
     stat: 'mean',
     smooth: false,
     window: defaultWindow(undefined),
@@ -128,7 +131,13 @@ function readFields(p, state, catalog, warnings) {
   for (const key of ['q', 'v']) if (p.has(key)) state[key] = parseList(p.get(key));
   // An empty value (`step=`) is an empty field, the preset's value: not 0.
   for (const key of ['step', 't_end', 'points']) if (p.has(key)) state[key] = p.get(key).trim() === '' ? null : Number(p.get(key));
-  if (p.has('methods')) state.methods = decodeMethods(p.get('methods'), catalog, warnings);
+  if (p.has('methods')) {
+    const methods = decodeMethods(p.get('methods'), catalog, warnings);
+    state.methods = applicable(catalog, state.system, methods);
+    for (const m of methods.filter((x) => !state.methods.includes(x))) {
+      warnings.push(`${findMethod(catalog, m.id)?.name ?? m.id} does not apply to ${findSystem(catalog, state.system)?.name ?? 'this system'}; left out`);
+    }
+  }
   if (p.has('integrals')) state.integrals = p.get('integrals').split(',').filter(Boolean);
   if (p.get('stat') === 'max') state.stat = 'max';
   state.smooth = p.get('smooth') === '1';
@@ -137,8 +146,11 @@ function readFields(p, state, catalog, warnings) {
 }
 
 /** The body of `POST /simulate` for a state: a custom system goes as its object, without
- *  preset and params (its parameters carry their values). */
-export function requestBody(state) {
+ *  preset and params (its parameters carry their values). With the `catalog`, a built-in's
+ *  integrals are left out while they are all it lists: the server then measures what the
+ *  scene has (a preset or a parameter may take the system out of the paper's class, and the
+ *  passenger and driver energies with it). */
+export function requestBody(state, catalog) {
   const custom = isCustom(state.system);
   const body = { system: custom ? copyCustom(state.system) : state.system };
   if (state.preset && !custom) body.preset = state.preset;
@@ -147,7 +159,8 @@ export function requestBody(state) {
   for (const key of ['q', 'v']) if (state[key]?.length) body[key] = state[key];
   for (const key of ['step', 't_end']) if (state[key] !== null && state[key] !== undefined) body[key] = state[key];
   body.methods = state.methods.map((m) => ({ id: m.id, ...m.params, ...(m.composition ? { composition: m.composition } : {}) }));
-  body.integrals = state.integrals;
+  const listed = !custom && catalog ? findSystem(catalog, state.system)?.integrals : null;
+  if (listed?.join(',') !== state.integrals.join(',')) body.integrals = state.integrals;
   body.points = state.points;
   return body;
 }
@@ -161,7 +174,7 @@ export function parseList(text) {
 function encodeMethods(methods, catalog) {
   return methods
     .map((m) => {
-      const info = catalog.methods.find((x) => x.id === m.id);
+      const info = findMethod(catalog, m.id);
       const values = (info?.params ?? []).map((p) => num(m.params[p.name] ?? p.default));
       const item = [m.id, ...values].join(':');
       return m.composition ? `${item}@${m.composition}` : item;
@@ -174,7 +187,7 @@ function decodeMethods(text, catalog, warnings) {
   for (const item of text.split(',').filter(Boolean)) {
     const [method, composition] = item.split('@');
     const [id, ...values] = method.split(':');
-    const info = catalog.methods.find((x) => x.id === id);
+    const info = findMethod(catalog, id);
     if (!info) {
       warnings.push(`unknown method "${id}" in the link; left out`);
       continue;

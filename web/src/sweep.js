@@ -5,8 +5,8 @@
 // where a cell sits on the grid (the last axis varies fastest and runs along x); the paths an
 // axis may take for a scene; and the presets (map-presets.json) the catalog can resolve.
 
-import { findMethod, findPreset, findSystem } from './catalog.js';
-import { isCustom } from './custom.js';
+import { applicable, findMethod, findPreset, findSystem } from './catalog.js';
+import { coordinateNames, isCustom } from './custom.js';
 import { defaultState, encodeState, parseList, requestBody } from './state.js';
 
 /** How an axis gives its values, in the order the kind select lists them. */
@@ -34,9 +34,10 @@ export function axisRequest(axis) {
   return { path: axis.path.trim(), [axis.kind]: [...axis.numbers] };
 }
 
-/** The body of `POST /sweep`: the form's scene and methods with the axes. */
-export function sweepBody(state, settings) {
-  return { ...requestBody(state), axes: settings.axes.map(axisRequest) };
+/** The body of `POST /sweep`: the form's scene and methods (as `requestBody` writes them with
+ *  the `catalog`) with the axes. */
+export function sweepBody(state, settings, catalog) {
+  return { ...requestBody(state, catalog), axes: settings.axes.map(axisRequest) };
 }
 
 /**
@@ -163,13 +164,15 @@ export function decodeSettings(query) {
 
 /**
  * The paths an axis may take for a state: its system's parameters, step and t_end, each
- * coordinate of q and q̇, and the parameters of its methods (all of them, or one).
+ * coordinate of q and q̇ (as many as the state's q has), and the parameters of its methods
+ * (all of them, or one).
  */
 export function axisPaths(state, catalog) {
   const custom = isCustom(state.system);
   const system = custom ? null : findSystem(catalog, state.system);
   const params = custom ? Object.keys(state.system.parameters ?? {}) : (system?.params ?? []).map((p) => p.name);
-  const dof = custom ? (state.system.passenger?.length ?? 0) + 1 : system?.dof ?? 0;
+  // q's size: the form's (a preset may change it), else the system's.
+  const dof = state.q?.length || (custom ? coordinateNames(state.system).length : system?.dof ?? 0);
   const out = [...params.map((n) => `params.${n}`), 'step', 't_end'];
   const methodParams = state.methods.map((m) => (findMethod(catalog, m.id)?.params ?? []).map((p) => p.name));
   for (const name of new Set(methodParams.flat())) out.push(`methods.${name}`);
@@ -180,13 +183,15 @@ export function axisPaths(state, catalog) {
 
 /**
  * The presets (map-presets.json) whose system, preset, methods and parameters the catalog
- * has; a preset without `methods` takes the catalog's default methods.
+ * has, their methods applying to their system; a preset without `methods` takes the
+ * catalog's default methods.
  */
 export function mapPresets(presets, catalog) {
   return presets.filter((x) => {
     const system = findSystem(catalog, x.scene?.system);
     if (!system || (x.scene.preset && !findPreset(system, x.scene.preset))) return false;
-    const methodsKnown = (x.scene.methods ?? []).every((m) => {
+    const methods = x.scene.methods ?? [];
+    const methodsKnown = applicable(catalog, system.id, methods).length === methods.length && methods.every((m) => {
       const info = findMethod(catalog, m.id);
       return info && Object.keys(m).every((k) => k === 'id' || (info.params ?? []).some((p) => p.name === k));
     });

@@ -1,17 +1,20 @@
 // The Explore form's moves from one state to the next, pure (node tests cover them): a new
 // system or preset, the formula editor opened on the system shown or started from a
-// built-in, a paper experiment, and a scene opened from the Scorecard or the Map. Each takes
-// the catalog (GET /systems) and the form's current state and returns the state to fill in.
+// built-in (in the paper's form or the general one), a paper experiment, and a scene opened
+// from the Scorecard or the Map. Each takes the catalog (GET /systems) and the form's
+// current state and returns the state to fill in. Methods that do not apply to the new
+// system (one made for the paper's class alone, on a system outside it) are left out.
 
-import { defaultWindow } from './catalog.js';
-import { customFrom, customIntegrals, isCustom } from './custom.js';
+import { applicable, defaultWindow, findSystem } from './catalog.js';
+import { coordinateNames, customFrom, customIntegrals, isCustom } from './custom.js';
 import { defaultCustomState, defaultState } from './state.js';
 
 /** A new built-in system: its first preset, defaults for integrals and window; the methods
- *  and the display stay. */
+ *  that apply to it and the display stay. */
 export function systemSwitched(catalog, current, system) {
   const next = defaultState(catalog, system);
-  next.methods = current.methods.length ? current.methods : next.methods;
+  const kept = applicable(catalog, system, current.methods);
+  next.methods = kept.length ? kept : next.methods;
   next.stat = current.stat;
   next.smooth = current.smooth;
   return next;
@@ -27,15 +30,20 @@ export function presetSwitched(catalog, current) {
 }
 
 /** The formula editor on the system of `current`, written as formulas at its parameter
- *  values; its initial state, times, methods and display stay, and the integrals it offers. */
-export function customized(catalog, current) {
-  const sys = customFrom(catalog, current.system, current.params);
+ *  values (in `form`, else in the paper's form where it has one); its initial state (where
+ *  its size fits the formulas: else the first preset's that does), times, methods and
+ *  display stay, and the integrals it offers. */
+export function customized(catalog, current, form) {
+  const sys = customFrom(catalog, current.system, current.params, form);
   const offered = customIntegrals(sys);
   const next = defaultCustomState(catalog, sys);
   const integrals = current.integrals.filter((i) => offered.includes(i));
+  const n = coordinateNames(sys).length;
+  const fits = (p) => p.q.length === n && p.v.length === n;
+  const start = fits(current) ? current : findSystem(catalog, current.system)?.presets?.find(fits) ?? { q: [], v: [] };
   return Object.assign(next, {
-    q: current.q,
-    v: current.v,
+    q: [...start.q],
+    v: [...start.v],
     step: current.step,
     t_end: current.t_end,
     points: current.points,
@@ -47,11 +55,11 @@ export function customized(catalog, current) {
   });
 }
 
-/** "Start from" a built-in: its formulas at its first preset's parameters, that preset's
- *  initial state and times; the methods and display stay. */
-export function startedFrom(catalog, current, system) {
+/** "Start from" a built-in: its formulas in `form` at its first preset's parameters, that
+ *  preset's initial state and times; the methods and display stay. */
+export function startedFrom(catalog, current, system, form) {
   const base = defaultState(catalog, system);
-  return customized(catalog, { ...base, methods: current.methods, points: current.points, stat: current.stat, smooth: current.smooth });
+  return customized(catalog, { ...base, methods: current.methods, points: current.points, stat: current.stat, smooth: current.smooth }, form);
 }
 
 /** A paper experiment: its scene at its preset, with the integrals its figures show. */
@@ -63,7 +71,8 @@ export function experiment(catalog, x) {
 }
 
 /** A scorecard cell (its scene, with the scorecard's methods) or a map cell (its /simulate
- *  body, with its one method); what the scene leaves out comes from its preset. */
+ *  body, with its one method); what the scene leaves out comes from its preset. Methods that
+ *  do not apply to its system are left out. */
 export function sceneOpened(catalog, scene, methods) {
   const custom = isCustom(scene.system);
   const state = custom ? defaultCustomState(catalog, scene.system) : defaultState(catalog, scene.system, scene.preset);
@@ -77,7 +86,7 @@ export function sceneOpened(catalog, scene, methods) {
     integrals: scene.integrals ? [...scene.integrals] : state.integrals,
     window: defaultWindow(scene.t_end ?? state.t_end),
     smooth: true,
-    methods: methods.map((m) => ({
+    methods: applicable(catalog, scene.system, methods).map((m) => ({
       id: m.id,
       params: Object.fromEntries(Object.entries(m).filter(([k]) => !['id', 'label', 'composition'].includes(k))),
       ...(m.composition ? { composition: m.composition } : {}),

@@ -72,25 +72,62 @@ export function systemsOf(card) {
   return [...out];
 }
 
+/** The properties the scorecard shows per method and system: short column head, name, and
+ *  the numbers behind a measurement. */
+export const PROPERTIES = [
+  { id: 'reversible', short: 'rev', name: 'reversible', numbers: (p) => `round-trip defect ${sci(p.reversibility_defect)} (≤ 1e-11 to pass)` },
+  { id: 'symmetric', short: 'sym', name: 'symmetric (Φ₋ₕ ∘ Φₕ = id)', numbers: (p) => `Φ₋ₕ ∘ Φₕ defect ${sci(p.symmetry_defect)} (≤ 1e-11 to pass)` },
+  {
+    id: 'preserves_fibration',
+    short: 'fib',
+    name: 'preserves the fibration',
+    numbers: (p) => `driver coupling ${sci(p.driver_coupling)}, fiber coupling ${sci(p.fiber_coupling)}, constraint defect ${sci(p.constraint_defect)} (each ≤ 1e-12 to pass)`,
+  },
+];
+
+/** A property mark's sign and words: measured on every scene (yes, no), on some (mixed),
+ *  failed (unknown), not defined (the fibration outside the paper's class), the method not
+ *  applying to the system. */
+export const MARKS = {
+  yes: ['✓', 'yes'],
+  no: ['✗', 'no'],
+  mixed: ['±', 'mixed'],
+  unknown: ['?', 'unknown (the measurement failed)'],
+  not_defined: ['–', 'not defined outside the paper’s class'],
+  not_applicable: ['n/a', 'not applicable: the method has no step for this system'],
+};
+
+/** Whether a scorecard run is of a method that has no step for its scene's system. */
+export const notApplicable = (run) => run?.status === 'not_applicable';
+
 /**
  * A method's property on a system, over the system's scenes: `yes` when measured true on
- * every scene, `no` when false on every one, `mixed` otherwise, `unknown` when no measurement
- * succeeded; with a hover text listing the measured numbers per scene.
+ * every scene, `no` when false on every one, `mixed` otherwise; `not_applicable` when the
+ * method has no step for the system, `not_defined` for the fibration outside the paper's
+ * class, `unknown` when no measurement succeeded; with a hover text listing the measured
+ * numbers per scene.
  */
 export function propertyMark(card, methodIndex, system, property) {
   const label = card.methods[methodIndex].label;
+  const { name, numbers } = PROPERTIES.find((p) => p.id === property);
   const rows = card.properties.filter(
     (p, i) => p.system === system && i % card.methods.length === methodIndex && p.method.label === label,
   );
-  const values = rows.map((p) => p[property]).filter((v) => v === true || v === false);
+  const runOf = (p) => card.scenes.find((s) => s.id === p.scene)?.runs?.[methodIndex];
+  const applying = rows.filter((p) => !notApplicable(runOf(p)));
+  const values = applying.map((p) => p[property]).filter((v) => v === true || v === false);
   let mark = 'unknown';
   if (values.length && values.every((v) => v)) mark = 'yes';
   else if (values.length && values.every((v) => !v)) mark = 'no';
   else if (values.length) mark = 'mixed';
-  const numbers = rows.map((p) => {
+  else if (rows.length && !applying.length) mark = 'not_applicable';
+  else if (property === 'preserves_fibration' && applying.length && applying.every((p) => !p.error)) mark = 'not_defined';
+  const lines = rows.map((p) => {
+    const run = runOf(p);
+    if (notApplicable(run)) return `${p.scene}: not applicable${run.error ? ` (${run.error})` : ''}`;
     if (p.error) return `${p.scene}: ${p.error}`;
-    if (property === 'reversible') return `${p.scene}: round-trip defect ${sci(p.reversibility_defect)} (≤ 1e-11 to pass)`;
-    return `${p.scene}: driver coupling ${sci(p.driver_coupling)}, fiber coupling ${sci(p.fiber_coupling)}, constraint defect ${sci(p.constraint_defect)} (each ≤ 1e-12 to pass)`;
+    if (p[property] === null || p[property] === undefined) return `${p.scene}: not defined outside the paper’s class`;
+    return `${p.scene}: ${numbers(p)}`;
   });
-  return { mark, title: [`${label} on ${system}: ${property === 'reversible' ? 'reversible' : 'preserves the fibration'}: ${mark}`, ...numbers].join('\n') };
+  return { mark, title: [`${label} on ${system}: ${name}: ${MARKS[mark][1]}`, ...lines].join('\n') };
 }

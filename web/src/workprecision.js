@@ -117,7 +117,7 @@ export class WorkPrecisionView {
     const timer = setInterval(tick, 500);
     try {
       const answer = await retrying(
-        () => fetchWorkPrecision(workPrecisionBody(state, settings), { signal: mine.signal }),
+        () => fetchWorkPrecision(workPrecisionBody(state, settings, this.catalog), { signal: mine.signal }),
         (wait) => {
           note = `The server is busy; retrying in ${wait} s`;
           tick();
@@ -129,7 +129,8 @@ export class WorkPrecisionView {
       this.#markStale('');
       const failed = answer.rows.filter((r) => r.status !== 'ok').length;
       const ref = answer.reference;
-      const refText = `reference: Dop853, ${ref.steps} steps${ref.cached ? ', cached' : `, ${ref.elapsed_ms.toFixed(1)} ms`}`;
+      // A system whose exact solution is known is measured against it.
+      const refText = ref.exact ? 'reference: the exact solution' : `reference: Dop853, ${ref.steps} steps${ref.cached ? ', cached' : `, ${ref.elapsed_ms.toFixed(1)} ms`}`;
       const scene = answer.scene ? ` on ${sceneCaption(answer.scene, this.catalog)}` : '';
       const took = clock(performance.now() - started);
       this.#status(failed ? 'done-failed' : 'done', `Done in ${took}: ${answer.rows.length} runs${scene}${failed ? `, ${failed} failed (see the table)` : ''}; ${refText}.`);

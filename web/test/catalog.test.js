@@ -6,6 +6,8 @@ import {
   defaultWindow,
   figureIntegrals,
   figureScenes,
+  methodsFor,
+  paperClassLine,
   paperExperiments,
   paperFigures,
   panelTitles,
@@ -130,4 +132,19 @@ test('the page sources name no system and no method', async () => {
       assert.doesNotMatch(text, new RegExp(`(?<![\\w^])${escape(name)}(?![\\w^])`), `${file} names "${name}"`);
     }
   }
+});
+
+test("a system offers the methods that apply to it and says whether it is in the paper's class", () => {
+  const all = catalog.methods.map((m) => m.id);
+  assert.deepEqual(methodsFor(catalog, 'knife_edge').map((m) => m.id), all);
+  assert.deepEqual(methodsFor(catalog, 'chaplygin_sleigh').map((m) => m.id), all.filter((id) => id !== 'dd_avf'));
+  // A custom system: every method (the server says which do not apply).
+  assert.deepEqual(methodsFor(catalog, { name: 'mine' }).map((m) => m.id), all);
+  const find = (id) => catalog.systems.find((s) => s.id === id);
+  assert.equal(paperClassLine(find('contact_oscillator').paper_class), 'In the paper’s class, driver y.');
+  assert.equal(paperClassLine(find('heisenberg').paper_class), "Outside the paper’s class: A depends on x and y (the paper's class: on the driver alone).");
+  assert.equal(paperClassLine({ member: false, driver: null, why_not: 'M ≠ I.' }, ' (here)'), 'Outside the paper’s class (here): M ≠ I.');
+  assert.equal(paperClassLine({ member: true, driver: 'y', why_not: null }, ' (here)'), 'In the paper’s class (here), driver y.');
+  assert.equal(paperClassLine({ member: true, driver: null, why_not: null }), 'In the paper’s class.');
+  assert.equal(paperClassLine(null), '');
 });

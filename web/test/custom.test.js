@@ -1,7 +1,8 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
-import { customFrom, customFromFields, customIntegrals, isCustom, sceneCaption, systemName } from '../src/custom.js';
+import { customFrom, customIntegrals, isCustom, sceneCaption, systemName } from '../src/custom.js';
+import { customFromFields } from '../src/customfields.js';
 import { workPrecisionBody } from '../src/precision.js';
 import { decodeState, defaultCustomState, defaultState, encodeState, requestBody } from '../src/state.js';
 

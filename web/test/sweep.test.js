@@ -138,6 +138,9 @@ test('an axis may set the parameters, step, final time, initial state and method
   ]);
   const custom = { ...state, system: { name: 's', passenger: ['x', 'y'], driver: 'z', parameters: { k: 1 }, constraints: [['1', 'z']] } };
   assert.deepEqual(axisPaths(custom, catalog).slice(0, 3), ['params.k', 'step', 't_end']);
+  // A preset with more coordinates than the system's defaults (the chaotic oscillator's n = 2).
+  const n2 = defaultState(catalog, 'chaotic_oscillator', 'n2');
+  assert.deepEqual(axisPaths(n2, catalog).filter((p) => p.startsWith('q[')), ['q[0]', 'q[1]', 'q[2]', 'q[3]', 'q[4]']);
 });
 
 test('every preset resolves against the catalog and sets the scene and axes it names', () => {
@@ -158,13 +161,15 @@ test('every preset resolves against the catalog and sets the scene and axes it n
   for (const p of usable) {
     const { state, settings } = presetSetup(p, catalog);
     assert.deepEqual(settings.axes.flatMap((a, i) => checkAxis(a, i)), [], p.id);
-    assert.ok(sweepBody(state, settings).axes.length === 2, p.id);
+    assert.equal(sweepBody(state, settings).axes.length, p.axes.length, p.id);
   }
   // A preset naming what the catalog lacks is left out, not shown broken.
   const broken = [
     { ...presets[0], scene: { ...presets[0].scene, system: 'nope' } },
     { ...presets[0], scene: { ...presets[0].scene, preset: 'nope' } },
     { ...presets[0], scene: { ...presets[0].scene, methods: [{ id: 'dla', beta: 1 }] } },
+    // A method that does not apply to the system (outside the paper's class).
+    { ...presets[0], scene: { ...presets[0].scene, system: 'chaplygin_sleigh', preset: undefined, methods: [{ id: 'dd_avf' }] } },
     { ...presets[0], scene: { ...presets[0].scene, integrals: ['momentum'] } },
   ];
   assert.deepEqual(mapPresets(broken, catalog), []);

@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { propertyMark, runVerdicts, systemsOf, verdictTitle } from '../src/verdicts.js';
+import { MARKS, PROPERTIES, propertyMark, runVerdicts, systemsOf, verdictTitle } from '../src/verdicts.js';
 
 const methods = [{ id: 'dd', label: 'DD' }, { id: 'leapfrog', label: 'LF' }];
 const prop = (method, system, scene, reversible, fibration) => ({
@@ -66,4 +66,40 @@ test('a run shows a verdict per integral: pending while it runs, none without da
   assert.match(energy.title, /^DD, energy: exact: max 1\.00e-15/);
   assert.deepEqual([latitude.kind, latitude.label], ['none', '–']);
   assert.match(latitude.title, /no verdict/);
+});
+
+test('a method without a step for the system is n/a, the fibration outside the class not defined', () => {
+  const avf = { id: 'dd_avf', label: 'DD-AVF' };
+  const lf = { id: 'leapfrog', label: 'LF' };
+  const outside = (method, scene, measured) => ({
+    method, system: 'chaplygin_sleigh', scene,
+    reversible: measured ? true : null, symmetric: measured ? true : null, preserves_fibration: null,
+    reversibility_defect: measured ? 1e-16 : null, symmetry_defect: measured ? 2e-16 : null,
+    driver_coupling: null, fiber_coupling: null, constraint_defect: null,
+    error: measured ? null : 'the method has no step for this system',
+  });
+  const why = "DD-AVF applies only to systems of the paper's class";
+  const sleigh = {
+    methods: [avf, lf],
+    scenes: ['free', 'inclined'].map((p) => ({
+      id: `chaplygin_sleigh/${p}`,
+      scene: { system: 'chaplygin_sleigh' },
+      runs: [{ status: 'not_applicable', error: why }, { status: 'ok' }],
+    })),
+    properties: ['free', 'inclined'].flatMap((p) => [outside(avf, `chaplygin_sleigh/${p}`, false), outside(lf, `chaplygin_sleigh/${p}`, true)]),
+  };
+  for (const property of ['reversible', 'symmetric', 'preserves_fibration']) {
+    const na = propertyMark(sleigh, 0, 'chaplygin_sleigh', property);
+    assert.equal(na.mark, 'not_applicable', property);
+    assert.ok(na.title.includes(why), na.title);
+  }
+  assert.equal(propertyMark(sleigh, 1, 'chaplygin_sleigh', 'reversible').mark, 'yes');
+  const sym = propertyMark(sleigh, 1, 'chaplygin_sleigh', 'symmetric');
+  assert.equal(sym.mark, 'yes');
+  assert.match(sym.title, /defect 2\.00e-16/);
+  const fib = propertyMark(sleigh, 1, 'chaplygin_sleigh', 'preserves_fibration');
+  assert.equal(fib.mark, 'not_defined');
+  assert.match(fib.title, /not defined outside the paper’s class/);
+  assert.equal(MARKS[fib.mark][0], '–');
+  assert.deepEqual(PROPERTIES.map((p) => p.id), ['reversible', 'symmetric', 'preserves_fibration']);
 });

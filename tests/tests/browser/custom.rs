@@ -149,7 +149,7 @@ async fn work_precision(client: &Client) -> Result<(), String> {
 /// latitude (offered, and checked as the built-in has it).
 async fn start_from(client: &Client) -> Result<(), String> {
     let select = client.find(Locator::Id("custom-start")).await.map_err(|e| e.to_string())?;
-    select.select_by_value("rolling_disk").await.map_err(|e| e.to_string())?;
+    select.select_by_value("paper:rolling_disk").await.map_err(|e| e.to_string())?;
     let editor = js(client, EDITOR_REPORT).await?;
     let rows = editor["constraints"].as_array().cloned().unwrap_or_default();
     assert_eq!(rows.len(), 2, "two constraints: {editor}");
@@ -160,7 +160,7 @@ async fn start_from(client: &Client) -> Result<(), String> {
     assert!(url.as_str().unwrap_or_default().contains("passenger=x1,x2,phi"), "{url}");
 
     let select = client.find(Locator::Id("custom-start")).await.map_err(|e| e.to_string())?;
-    select.select_by_value("cvt_pendulum").await.map_err(|e| e.to_string())?;
+    select.select_by_value("paper:cvt_pendulum").await.map_err(|e| e.to_string())?;
     let editor = js(client, EDITOR_REPORT).await?;
     assert_eq!(editor["checked"], json!(true), "the latitude offered and checked: {editor}");
     Ok(())

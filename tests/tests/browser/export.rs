@@ -6,7 +6,7 @@
 //! it is brought into view.
 use crate::driver::Driver;
 use crate::explore::console_clean;
-use crate::page::{js, poll, wait_for_status};
+use crate::page::{click, js, poll, wait_for_status};
 use fantoccini::{Client, Locator};
 use serde_json::{Value, json};
 use std::path::Path;
@@ -118,16 +118,6 @@ pub(crate) fn save(name: &str, bytes: &Value) {
     let dir =
         Path::new(env!("CARGO_TARGET_TMPDIR")).parent().expect("target dir").join("screenshots");
     let _ = std::fs::create_dir_all(&dir).and_then(|()| std::fs::write(dir.join(name), bytes));
-}
-
-async fn click(client: &Client, css: &str) -> Result<(), String> {
-    client
-        .find(Locator::Css(css))
-        .await
-        .map_err(|e| format!("no {css}: {e}"))?
-        .click()
-        .await
-        .map_err(|e| format!("cannot click {css}: {e}"))
 }
 
 /// Downloads go through a blob URL and an anchor with `download`: record the anchor's name

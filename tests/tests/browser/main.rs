@@ -18,11 +18,20 @@
 //!    (`custom-system.png`), a stray parenthesis in a constraint entry is shown under that
 //!    entry (`custom-bad-formula.png`), the successful run's link brings it all back, the
 //!    Work–precision tab measures it and names it, and "Start from" refills the editor (the
-//!    rolling disk's two constraints, the pendulum CVT's latitude);
+//!    rolling disk's two constraints, the pendulum CVT's latitude); the Chaplygin sleigh,
+//!    picked in Explore, offers only the methods and integrals it has (DD-AVF left out), says
+//!    why it is outside the paper's class, and runs (`sleigh.png`); the chaotic oscillator's
+//!    n = 2 preset fills five coordinates and runs; the editor in the general form, started
+//!    from the sleigh with an invariant added, runs (`custom-general.png`), an entry of M
+//!    naming a coordinate and an invariant that does not parse are shown at their inputs, its
+//!    link brings the general form back, and it fits 400 px (`custom-general-400.png`);
 //! 7. `?view=paper` draws every panel of the paper's four figures (five curves with data
 //!    each) with a verdict per method under it (`paper.png`, `paper-cvt.png`);
-//! 8. `?view=scorecard` shows a verdict cell for every method × paper scene × integral and
-//!    the property marks (`scorecard.png`); clicking a cell runs that scene in the main view;
+//! 8. `?view=scorecard` shows a verdict cell for every method × default scene (the paper's six,
+//!    the literature's seven) × integral, DD-AVF "n/a" outside the paper's class with its
+//!    reason, and the property marks, the fibration "not defined" outside the class
+//!    (`scorecard.png`); clicking a cell runs that scene in the main view, without the methods
+//!    that do not apply;
 //! 9. `?view=work-precision` with a knife-edge scene draws both log–log plots (error against
 //!    run time, error against h) with a line per method, and each method's fitted order in
 //!    the legend and the table, LF and DLA^{0,1} near 2, DLA^0.4 near 1
@@ -33,8 +42,9 @@
 //!     URL holding the map (`map.png`); hovering a cell shows its tooltip with its axis values,
 //!     method and numbers (`map-tooltip.png`); clicking it runs that cell in Explore, its one
 //!     curve drawn (`map-opened.png`); a one-axis link with `run=1` draws a cell strip and a
-//!     line per method (`map-one-axis.png`); an axis path the server rejects is marked at its
-//!     field (`map-bad-axis.png`).
+//!     line per method (`map-one-axis.png`), and so does one on the Chaplygin sleigh, whose
+//!     preset the map offers (`map-sleigh.png`); an axis path the server rejects is marked at
+//!     its field (`map-bad-axis.png`).
 //! 11. at 400, 800 and 1400 px the rotating, perturbed experiment (one click) brings its status
 //!     line and first plot into view, scrolling only when they were off screen
 //!     (`width-400.png`, …); no view scrolls sideways at 360, 400, 800 or 1400 px; every
@@ -59,6 +69,7 @@ mod custom;
 mod driver;
 mod explore;
 mod export;
+mod general;
 mod maps;
 mod page;
 mod precision;
@@ -72,6 +83,7 @@ use explore::{
 };
 use export::plot_export;
 use fantoccini::Client;
+use general::{general_custom, sleigh_in_explore};
 use maps::map_view;
 use nhlab_tests::TestServer;
 use precision::work_precision_controls;
@@ -108,6 +120,8 @@ async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), S
     bad_parameter_link(client, base).await?;
     composition(client, driver, base).await?;
     custom_system(client, driver, base).await?;
+    sleigh_in_explore(client, driver, base).await?;
+    general_custom(client, driver, base).await?;
     paper_view(client, driver, base).await?;
     scorecard_view(client, driver, base).await?;
     work_precision_view(client, driver, base).await?;

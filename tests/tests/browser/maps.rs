@@ -1,6 +1,7 @@
 //! The Map view: a preset's sweep fills the heat map, a hovered cell names itself and its
-//! numbers, a clicked cell opens its run in Explore; a one-axis link draws the line plot; an
-//! axis the server rejects is marked at its field.
+//! numbers, a clicked cell opens its run in Explore; a one-axis link draws the line plot, on
+//! the knife edge and on the Chaplygin sleigh (outside the paper's class); an axis the server
+//! rejects is marked at its field.
 
 use crate::driver::Driver;
 use crate::explore::console_clean;
@@ -136,6 +137,7 @@ pub(crate) async fn map_view(client: &Client, driver: &Driver, base: &str) -> Re
     screenshot(client, "map-opened.png").await;
     console_clean(driver, client, "map cell opened").await?;
     one_axis(client, driver, base).await?;
+    sleigh(client, driver, base).await?;
     bad_axis(client, base).await?;
     println!("map view: 231 cells drawn, tooltip and click checked; screenshot {shot}");
     Ok(())
@@ -162,6 +164,41 @@ async fn one_axis(client: &Client, driver: &Driver, base: &str) -> Result<(), St
     }
     assert!(report["legend"].as_str().unwrap_or("").contains("log₁₀"), "{report}");
     console_clean(driver, client, "map with one axis").await
+}
+
+/// A system outside the paper's class: the sleigh's preset button is offered, and a short
+/// one-axis link sweeps it, with a line per method and an integral it has (no DD-AVF offered).
+async fn sleigh(client: &Client, driver: &Driver, base: &str) -> Result<(), String> {
+    let link = format!(
+        "{base}?view=map&system=chaplygin_sleigh&preset=inclined&t_end=20\
+         &methods=leapfrog,dd,rattle&map.axis=step:logspace:0.05,0.5,4&run=1"
+    );
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    let (state, text) = wait_for_view(client, "view-map").await?;
+    let shot = screenshot(client, "map-sleigh.png").await;
+    assert_eq!(state, "done", "the sleigh's sweep finished with {text:?} ({shot})");
+    let report = js(client, MAP_REPORT).await?;
+    assert_eq!([&report["cells"], &report["drawn"]], [&json!(4), &json!(4)], "{report}");
+    let kinds = report["kinds"].as_array().ok_or("no cell kinds")?;
+    assert!(
+        kinds.iter().all(|k| ["exact", "bounded", "drift"].contains(&k.as_str().unwrap_or(""))),
+        "every cell has a verdict: {report}"
+    );
+    let lines = report["lines"].as_array().ok_or_else(|| format!("no line plot: {report}"))?;
+    assert_eq!(lines.len(), 3, "a line per method: {report}");
+    let offered = js(
+        client,
+        r#"return {
+             presets: [...document.querySelectorAll('#view-map .map-presets button')].map((b) => b.dataset.preset),
+             integrals: [...document.querySelectorAll('#map-integral option')].map((o) => o.value),
+             scene: document.querySelector('#view-map .map-scene-text').textContent,
+           };"#,
+    )
+    .await?;
+    assert!(offered["presets"].to_string().contains("sleigh-step"), "{offered}");
+    assert_eq!(offered["integrals"], json!(["energy", "constraint"]), "{offered}");
+    assert!(offered["scene"].as_str().unwrap_or("").starts_with("Chaplygin sleigh"), "{offered}");
+    console_clean(driver, client, "map of the sleigh").await
 }
 
 /// An axis path the server does not know: its 422 is shown at that axis's field.

@@ -1,7 +1,7 @@
 //! Reading the page: scripts run in it, its status lines, screenshots.
 
 use crate::RUN_TIMEOUT;
-use fantoccini::Client;
+use fantoccini::{Client, Locator};
 use serde_json::Value;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -77,6 +77,20 @@ pub(crate) async fn poll(client: &Client, script: &str, within: Duration) -> Res
         }
         tokio::time::sleep(Duration::from_millis(25)).await;
     }
+}
+
+/// Clicks the element `css` finds, scrolled to the middle of the window first (the form's
+/// sticky Run bar covers its bottom).
+pub(crate) async fn click(client: &Client, css: &str) -> Result<(), String> {
+    let element = client.find(Locator::Css(css)).await.map_err(|e| format!("no {css}: {e}"))?;
+    client
+        .execute(
+            "arguments[0].scrollIntoView({block: 'center'});",
+            vec![serde_json::to_value(&element).map_err(|e| e.to_string())?],
+        )
+        .await
+        .map_err(|e| format!("cannot scroll to {css}: {e}"))?;
+    element.click().await.map_err(|e| format!("cannot click {css}: {e}"))
 }
 
 pub(crate) async fn js(client: &Client, script: &str) -> Result<Value, String> {

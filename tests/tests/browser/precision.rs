@@ -5,7 +5,7 @@
 
 use crate::driver::Driver;
 use crate::explore::console_clean;
-use crate::page::{js, poll, screenshot, wait_for_view};
+use crate::page::{self, js, poll, screenshot, wait_for_view};
 use fantoccini::{Client, Locator};
 use serde_json::json;
 use std::time::Duration;
@@ -107,14 +107,7 @@ pub(crate) async fn work_precision_controls(
 }
 
 async fn click(client: &Client, css: &str) -> Result<(), String> {
-    let css = format!("#view-work-precision {css}");
-    client
-        .find(Locator::Css(&css))
-        .await
-        .map_err(|e| format!("no {css}: {e}"))?
-        .click()
-        .await
-        .map_err(|e| format!("cannot click {css}: {e}"))
+    page::click(client, &format!("#view-work-precision {css}")).await
 }
 
 async fn set_value(client: &Client, css: &str, value: &str) -> Result<(), String> {

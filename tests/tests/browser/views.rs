@@ -2,7 +2,7 @@
 
 use crate::driver::Driver;
 use crate::explore::console_clean;
-use crate::page::{js, screenshot, wait_for_status, wait_for_view};
+use crate::page::{click, js, screenshot, wait_for_status, wait_for_view};
 use fantoccini::{Client, Locator};
 use serde_json::json;
 use std::time::Duration;
@@ -88,8 +88,9 @@ return {
 };
 "#;
 
-/// The Scorecard view: a cell per method × scene × integral, property marks, and a cell
-/// that opens its scene.
+/// The Scorecard view: a cell per method × scene × integral on the thirteen default scenes,
+/// DD-AVF "n/a" outside the paper's class (not failed), property marks per system (the
+/// fibration not defined outside the class), and a cell that opens its scene.
 pub(crate) async fn scorecard_view(
     client: &Client,
     driver: &Driver,
@@ -100,51 +101,82 @@ pub(crate) async fn scorecard_view(
     let (state, text) = wait_for_view(client, "view-scorecard").await?;
     let shot = screenshot(client, "scorecard.png").await;
     assert_eq!(state, "done", "the scorecard finished with {text:?} ({shot})");
+    assert!(text.contains("on 13 scenes") && text.contains("not applicable"), "{text}");
+    assert!(!text.contains("failed"), "an n/a run is not a failure: {text}");
     let report = js(client, SCORECARD_REPORT).await?;
     let rows = report["rows"].as_array().ok_or("no rows")?;
     let labels: Vec<&str> = rows.iter().map(|r| r["method"].as_str().unwrap_or("?")).collect();
-    assert_eq!(labels, ["DLA^0.5", "DLA^0.4", "DLA^{0,1}", "LF", "DD", "DD-AVF", "RK4"]);
-    let paper_scenes = [
-        "knife_edge/paper",
-        "knife_edge/paper-perturbed",
-        "cvt_pendulum/oscillating",
-        "cvt_pendulum/rotating",
-        "cvt_pendulum/oscillating-perturbed",
-        "cvt_pendulum/rotating-perturbed",
-    ];
+    assert_eq!(labels, ["DLA^0.5", "DLA^0.4", "DLA^{0,1}", "LF", "DD", "DD-AVF", "RK4", "RATTLE"]);
+    let systems = js(client, "return fetch('systems').then((r) => r.json());").await?;
+    let scenes: Vec<String> = ["paper_scenes", "literature_scenes"]
+        .iter()
+        .flat_map(|k| systems[*k].as_array().cloned().unwrap_or_default())
+        .map(|s| {
+            format!("{}/{}", s["system"].as_str().unwrap_or(""), s["preset"].as_str().unwrap_or(""))
+        })
+        .collect();
+    assert_eq!(scenes.len(), 13, "the paper's six and the literature's seven: {scenes:?}");
+    let member = |scene: &str| {
+        let id = scene.split('/').next().unwrap_or_default();
+        systems["systems"]
+            .as_array()
+            .and_then(|a| a.iter().find(|s| s["id"] == id))
+            .is_some_and(|s| s["paper_class"]["member"] == json!(true))
+    };
     for row in rows {
+        let avf = row["method"] == "DD-AVF";
         let cells = row["cells"].as_array().ok_or("no cells")?;
-        for scene in paper_scenes {
-            let n = cells.iter().filter(|c| c["scene"] == scene).count();
-            assert!(n >= 3, "{}: {n} cells for {scene}: {row}", row["method"]);
+        for scene in &scenes {
+            let here: Vec<_> = cells.iter().filter(|c| c["scene"] == scene.as_str()).collect();
+            assert!(here.len() >= 2, "{}: {} cells for {scene}: {row}", row["method"], here.len());
+            let na = avf && !member(scene);
+            for c in here {
+                let kind = c["kind"].as_str().unwrap_or("");
+                if na {
+                    assert_eq!(kind, "not_applicable", "DD-AVF on {scene}: {c}");
+                    let title = c["title"].as_str().unwrap_or("");
+                    assert!(title.contains("not applicable: ") && title.contains("paper"), "{c}");
+                } else {
+                    assert!(
+                        ["exact", "bounded", "drift"].contains(&kind),
+                        "{}: {c}",
+                        row["method"]
+                    );
+                }
+            }
         }
-        assert!(
-            cells
-                .iter()
-                .all(|c| ["exact", "bounded", "drift"].contains(&c["kind"].as_str().unwrap_or(""))),
-            "every cell has a verdict: {row}"
-        );
         let marks = row["marks"].as_object().ok_or("no property marks")?;
-        assert_eq!(marks.len(), 4, "reversible and fibration on two systems: {row}");
-        assert!(marks.values().all(|m| m == "yes" || m == "no"), "{row}");
+        assert_eq!(marks.len(), 8 * 3, "rev, sym and fib on eight systems: {row}");
+        for paper in ["knife_edge", "cvt_pendulum"] {
+            for property in ["reversible", "symmetric", "preserves_fibration"] {
+                let mark = &marks[&format!("{paper}.{property}")];
+                assert!(mark == "yes" || mark == "no", "{paper}.{property}: {row}");
+            }
+        }
+        let expected = if avf { "not_applicable" } else { "not_defined" };
+        assert_eq!(marks["chaplygin_sleigh.preserves_fibration"], expected, "{row}");
+        if avf {
+            assert_eq!(marks["chaplygin_sleigh.reversible"], "not_applicable", "{row}");
+        }
     }
     let mark = |method: usize, key: &str| rows[method]["marks"][key].clone();
     assert_eq!(mark(1, "knife_edge.reversible"), "no", "DLA^0.4 is not reversible");
     assert_eq!(mark(4, "cvt_pendulum.reversible"), "yes", "DD is reversible");
     assert_eq!(mark(4, "cvt_pendulum.preserves_fibration"), "no", "DD breaks the fibration");
     assert_eq!(mark(3, "cvt_pendulum.preserves_fibration"), "yes", "LF keeps it");
+    assert_eq!(mark(3, "knife_edge.symmetric"), "yes", "LF is symmetric");
+    assert_eq!(mark(1, "knife_edge.symmetric"), "no", "DLA^0.4 is not");
     assert!(!report["criterion"].as_str().unwrap_or("").is_empty(), "the criterion is shown");
+    js(client, "document.querySelector('#view-scorecard td.verdict-cell.not_applicable')?.scrollIntoView({block: 'center', inline: 'center'});").await?;
+    screenshot(client, "scorecard-not-applicable.png").await;
     console_clean(driver, client, "scorecard view").await?;
 
     // A cell opens its scene, with the scorecard's seven methods, in the main view.
-    let cell = r#"#view-scorecard td.verdict-cell[data-scene="cvt_pendulum/rotating"][data-integral="latitude"]"#;
-    client
-        .find(Locator::Css(cell))
-        .await
-        .map_err(|e| format!("no cell {cell}: {e}"))?
-        .click()
-        .await
-        .map_err(|e| format!("cannot click {cell}: {e}"))?;
+    click(
+        client,
+        r#"#view-scorecard td.verdict-cell[data-scene="cvt_pendulum/rotating"][data-integral="latitude"]"#,
+    )
+    .await?;
     let (state, text) = wait_for_status(client).await?;
     assert_eq!(state, "done", "the opened scene ran: {text:?}");
     let opened = js(
@@ -156,10 +188,29 @@ pub(crate) async fn scorecard_view(
     let url = opened[0].as_str().unwrap_or_default();
     assert!(url.contains("system=cvt_pendulum") && url.contains("preset=rotating"), "{opened}");
     assert_eq!(opened[1], json!(false), "the main view is shown: {opened}");
-    assert_eq!(opened[2], json!(7), "the scorecard's seven methods ran: {opened}");
+    assert_eq!(opened[2], json!(8), "the scorecard's eight methods ran: {opened}");
     screenshot(client, "scorecard-opened.png").await;
     console_clean(driver, client, "scorecard cell").await?;
-    println!("scorecard view: 7 methods × 6 scenes with property marks; screenshot {shot}");
+
+    // A sleigh cell opens its scene without DD-AVF, which does not apply to it.
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    wait_for_view(client, "view-scorecard").await?;
+    click(
+        client,
+        r#"#view-scorecard td.verdict-cell[data-scene="chaplygin_sleigh/free"][data-integral="energy"]:not(.not_applicable)"#,
+    )
+    .await?;
+    let (state, text) = wait_for_status(client).await?;
+    assert_eq!(state, "done", "the sleigh's scene ran: {text:?}");
+    let opened = js(
+        client,
+        "return [...document.querySelectorAll('#runs tr.run th')].map((th) => th.textContent);",
+    )
+    .await?;
+    assert_eq!(opened.as_array().map(Vec::len), Some(7), "every method but DD-AVF: {opened}");
+    assert!(!opened.to_string().contains("DD-AVF"), "{opened}");
+    console_clean(driver, client, "scorecard sleigh cell").await?;
+    println!("scorecard view: 8 methods × 13 scenes, n/a outside the class; screenshot {shot}");
     Ok(())
 }
 
@@ -167,10 +218,11 @@ pub(crate) async fn scorecard_view(
 const SCORECARD_REPORT: &str = r#"
 return {
   criterion: document.querySelector('#view-scorecard .criterion')?.textContent ?? '',
-  rows: [...document.querySelectorAll('#view-scorecard table.scorecard tbody tr')].map((tr) => ({
+  rows: [...document.querySelectorAll('#view-scorecard table.scorecard-verdicts tbody tr')].map((tr) => ({
     method: tr.dataset.method,
-    cells: [...tr.querySelectorAll('td.verdict-cell')].map((c) => ({ scene: c.dataset.scene, integral: c.dataset.integral, kind: c.dataset.kind })),
-    marks: Object.fromEntries([...tr.querySelectorAll('td.prop')].map((c) => [`${c.dataset.system}.${c.dataset.property}`, c.dataset.mark])),
+    cells: [...tr.querySelectorAll('td.verdict-cell')].map((c) => ({ scene: c.dataset.scene, integral: c.dataset.integral, kind: c.dataset.kind, title: c.title })),
+    marks: Object.fromEntries([...document.querySelectorAll(`#view-scorecard table.scorecard-properties tr[data-method="${CSS.escape(tr.dataset.method)}"] td.prop`)]
+      .map((c) => [`${c.dataset.system}.${c.dataset.property}`, c.dataset.mark])),
   })),
 };
 "#;

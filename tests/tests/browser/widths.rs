@@ -206,7 +206,7 @@ async fn views_fit(client: &Client, widths: &[u32]) -> Result<(), String> {
 }
 
 /// The document's width against the window's, and the widest elements when it is wider.
-const OVERFLOW: &str = r#"
+pub(crate) const OVERFLOW: &str = r#"
 const wide = [...document.querySelectorAll('body *')]
   .filter((e) => e.offsetParent && e.getBoundingClientRect().right > innerWidth + 1)
   .slice(0, 5).map((e) => `${e.tagName}.${e.className}`);
