@@ -22,10 +22,10 @@ import subprocess
 BINARY = os.path.join(os.environ.get("CARGO_TARGET_DIR", "target"), "release/examples/step_loop")
 
 
-def cpu_seconds(args):
-    """CPU time of one `step_loop` run, from the children's resource usage."""
+def cpu_seconds(args, binary=BINARY):
+    """CPU time of one `step_loop` run (or of `binary`'s), from the children's resource usage."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run([BINARY] + args, check=True, stdout=subprocess.DEVNULL)
+    subprocess.run([binary] + args, check=True, stdout=subprocess.DEVNULL)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 

@@ -1,23 +1,65 @@
-//! N steps of one method on one system from its first preset, nothing else: what
-//! `bench/fast_path_instructions.sh` counts under callgrind (instructions per step are the
-//! difference between two step counts, so that setting up and exiting cancel).
+//! N steps of one method on one system from one of its presets, nothing else: the tool for
+//! ns/step by process (`bench/formula_ratio.py`, `bench/general_ratio.py`,
+//! `bench/sleigh_ratio.py`, `perf stat`), and what `bench/fast_path_instructions.sh` counts
+//! under callgrind (instructions per step are the difference between two step counts, so that
+//! setting up and exiting cancel).
 //!
-//! `step_loop SYSTEM METHOD PATH STEPS [PRESET]`: METHOD is an index into `Method::all()` (the
-//! paper's five, then the others), PATH `fast` (the method's default), `general`, or
-//! `formulas` (the default path on the system given as formulas, `FormulaSpec::of`); PRESET an
-//! index into the system's presets (0 if left out). `step_loop list` prints the indices and
-//! which methods have a general path.
+//! `step_loop SYSTEM METHOD PATH STEPS [PRESET [RESTART]]`: METHOD is an index into
+//! `Method::all()` (the paper's five, then the others), PRESET an index into the system's
+//! presets (0 if left out); RESTART, if given and not 0, starts again from the preset's start
+//! every RESTART steps (a scene whose motion runs away, as the inclined sleigh's, is then
+//! measured as its scene runs, not as its far future).
+//! PATH, on a system of the paper's class: `fast` (the method's default), `general` (its
+//! general Newton path in the class), `formulas` (the default path on the system given as
+//! formulas, `FormulaSpec::of`), `as-general` (the method's general-class step on the system
+//! seen through `General`), `general-formulas` (the general-class step on the system's
+//! general form compiled with `detect_class: false`). On a built-in of the general class
+//! (`chaplygin_sleigh`): `fast` (the built-in) or `formulas` (its general form compiled).
+//! `step_loop list` prints the indices and which methods have a general path.
 
 use nhlab_core::model::custom::Custom;
-use nhlab_core::{BuiltIn, CustomLimits, CustomSystem, FormulaSpec, Preset, System};
-use nhlab_core::{Method, State, Vector, for_each_system};
+use nhlab_core::model::custom::{GeneralCustom, Structure};
+use nhlab_core::model::mechanical::{General, GeneralBuiltIn, Mechanical};
+use nhlab_core::{BuiltIn, CustomLimits, CustomSystem, FormulaSpec, GeneralSpec, Preset, System};
+use nhlab_core::{Method, State, SystemInfo, Vector, for_each_general_system, for_each_system};
 
-/// What runs: the method, whether on the system given as formulas, the preset, the steps.
+/// What runs: the method, on which path, the preset, the steps.
 struct Run {
     method: Method,
-    formulas: bool,
+    path: String,
     preset: usize,
     steps: u64,
+    restart: u64,
+}
+
+impl Run {
+    /// The lengths of the runs from the start that make up the steps.
+    fn runs(&self) -> impl Iterator<Item = u64> {
+        let each = if self.restart == 0 { self.steps.max(1) } else { self.restart };
+        let (whole, rest) = (self.steps / each, self.steps % each);
+        std::iter::repeat_n(each, whole as usize).chain((rest > 0).then_some(rest))
+    }
+}
+
+/// The preset asked for, or exits saying how many there are.
+fn preset<'a>(info: &'a SystemInfo, run: &Run) -> &'a Preset {
+    info.presets.get(run.preset).unwrap_or_else(|| {
+        eprintln!("{} has {} presets, numbered from 0", info.id, info.presets.len());
+        std::process::exit(2);
+    })
+}
+
+/// The built-in's general form at the preset's parameters, compiled on the general path.
+fn general_formulas<const N: usize, const R: usize>(
+    info: &SystemInfo,
+    p: &Preset,
+) -> GeneralCustom<N, R> {
+    let spec = GeneralSpec::of_built_in(info, &info.preset_params(p)).expect("a general form");
+    let spec = GeneralSpec { detect_class: false, ..spec };
+    let compiled = CustomSystem::compile_general(&spec, &[], &CustomLimits::default())
+        .expect("a built-in's general form compiles");
+    let Structure::General(compiled) = compiled.structure else { unreachable!("class not sought") };
+    GeneralCustom::new(compiled)
 }
 
 fn run<S: BuiltIn<N, R>, const N: usize, const R: usize>(system: &str, run: &Run) {
@@ -25,33 +67,62 @@ fn run<S: BuiltIn<N, R>, const N: usize, const R: usize>(system: &str, run: &Run
     if info.id != system {
         return;
     }
-    let Some(p) = info.presets.get(run.preset) else {
-        eprintln!("{system} has {} presets, numbered from 0", info.presets.len());
-        std::process::exit(2);
-    };
+    let p = preset(info, run);
     let sys = S::new(&info.preset_params(p));
-    if run.formulas {
-        let overrides: Vec<_> = p.params.iter().map(|(n, v)| (n.to_string(), *v)).collect();
-        let compiled = CustomSystem::compile(
-            &FormulaSpec::of(info).expect("a class built-in"),
-            &overrides,
-            &CustomLimits::default(),
-        )
-        .expect("a built-in's formula form compiles");
-        steps_on(
-            &Custom::<N, R>::new(compiled.class_compiled().expect("the class").clone()),
-            p,
-            run,
-        );
-    } else {
-        steps_on(&sys, p, run);
+    match run.path.as_str() {
+        "formulas" => {
+            let overrides: Vec<_> = p.params.iter().map(|(n, v)| (n.to_string(), *v)).collect();
+            let spec = FormulaSpec::of(info).expect("a class built-in");
+            let compiled = CustomSystem::compile(&spec, &overrides, &CustomLimits::default())
+                .expect("a built-in's formula form compiles");
+            let class = compiled.class_compiled().expect("the class").clone();
+            steps_on(&Custom::<N, R>::new(class), p, run);
+        }
+        "as-general" => general_steps_on(&General(&sys), p, run),
+        "general-formulas" => general_steps_on(&general_formulas::<N, R>(info, p), p, run),
+        _ => steps_on(&sys, p, run),
+    }
+}
+
+fn run_general<S: GeneralBuiltIn<N, R>, const N: usize, const R: usize>(system: &str, run: &Run) {
+    let info = S::info();
+    if info.id != system {
+        return;
+    }
+    let p = preset(info, run);
+    match run.path.as_str() {
+        "fast" => general_steps_on(&S::new(&info.preset_params(p)), p, run),
+        "formulas" => general_steps_on(&general_formulas::<N, R>(info, p), p, run),
+        other => {
+            eprintln!("{system} is of the general class: PATH is fast or formulas, not {other}");
+            std::process::exit(2);
+        }
     }
 }
 
 fn steps_on<S: System<N, R>, const N: usize, const R: usize>(sys: &S, p: &Preset, run: &Run) {
     let (q, v) = (Vector::<N>::from_column_slice(p.q), Vector::<N>::from_column_slice(p.v));
-    let mut st = State::with_continuous_multiplier(sys, q, v).expect("a preset is regular");
-    run.method.steps(sys, &mut st, p.step, run.steps).expect("the preset runs");
+    let start = State::with_continuous_multiplier(sys, q, v).expect("a preset is regular");
+    let mut st = start;
+    for n in run.runs() {
+        st = start;
+        run.method.steps(sys, &mut st, p.step, n).expect("the preset runs");
+    }
+    println!("{} on {}: q = {:?}", run.method.label(), p.id, st.q.as_slice());
+}
+
+fn general_steps_on<S: Mechanical<N, R>, const N: usize, const R: usize>(
+    sys: &S,
+    p: &Preset,
+    run: &Run,
+) {
+    let (q, v) = (Vector::<N>::from_column_slice(p.q), Vector::<N>::from_column_slice(p.v));
+    let start = State::general_start(sys, q, v).expect("a preset is regular");
+    let mut st = start;
+    for n in run.runs() {
+        st = start;
+        run.method.steps_general(sys, &mut st, p.step, n).expect("the preset runs");
+    }
     println!("{} on {}: q = {:?}", run.method.label(), p.id, st.q.as_slice());
 }
 
@@ -64,27 +135,33 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         return Ok(());
     }
-    let (system, method, path, steps, preset) = match args.as_slice() {
-        [s, m, p, n] => (s, m, p, n, "0"),
-        [s, m, p, n, preset] => (s, m, p, n, preset.as_str()),
+    let (system, method, path, steps, preset, restart) = match args.as_slice() {
+        [s, m, p, n] => (s, m, p, n, "0", "0"),
+        [s, m, p, n, preset] => (s, m, p, n, preset.as_str(), "0"),
+        [s, m, p, n, preset, restart] => (s, m, p, n, preset.as_str(), restart.as_str()),
         _ => {
-            return Err(
-                "usage: step_loop SYSTEM METHOD PATH STEPS [PRESET] | step_loop list".into()
-            );
+            return Err("usage: step_loop SYSTEM METHOD PATH STEPS [PRESET [RESTART]] | \
+                        step_loop list"
+                .into());
         }
     };
     let m = all.get(method.parse::<usize>()?).ok_or("no such method index")?;
     let method = match path.as_str() {
-        "fast" | "formulas" => *m,
+        "fast" | "formulas" | "as-general" | "general-formulas" => *m,
         "general" => m.general_path().ok_or("this method has no general path")?,
-        _ => return Err("PATH is fast, general or formulas".into()),
+        _ => return Err("PATH is fast, general, formulas, as-general or general-formulas".into()),
     };
+    if method.info().class_only.is_some() && path.contains("general") && path != "general" {
+        return Err(format!("{} has no general-class step", method.label()).into());
+    }
     let r = Run {
         method,
-        formulas: path == "formulas",
+        path: path.clone(),
         preset: preset.parse()?,
         steps: steps.parse()?,
+        restart: restart.parse()?,
     };
     for_each_system!(run, system, &r);
+    for_each_general_system!(run_general, system, &r);
     Ok(())
 }
