@@ -18,13 +18,15 @@ use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{Linkage, Module, default_libcall_names};
 use std::mem::MaybeUninit;
 
-/// Most variables of a tape compiled to machine code: they are passed in registers.
-pub const MAX_VARS: usize = 6;
+/// Variables of a tape compiled to machine code passed in registers; the others are read
+/// from memory.
+pub const REGISTER_VARS: usize = 6;
 
-/// Compiled code: `f(x₀, …, x₅, out)`, the variables in registers (unused ones are ignored):
-/// a step calls the driver's code on its Newton chain, where a trip through memory for the
-/// inputs would add a store and a load to each iteration's latency.
-type Code = unsafe extern "C" fn(f64, f64, f64, f64, f64, f64, *mut f64);
+/// Compiled code: `f(x₀, …, x₅, out, rest)`, the first variables in registers (unused ones
+/// are ignored), the others from `rest` (`x₆, x₇, …`): a step calls the driver's code on its
+/// Newton chain, where a trip through memory for the inputs would add a store and a load to
+/// each iteration's latency; a system of more coordinates reads the rest from memory.
+type Code = unsafe extern "C" fn(f64, f64, f64, f64, f64, f64, *mut f64, *const f64);
 
 /// A tape as machine code; see the module's doc.
 pub struct Jitted {
@@ -88,12 +90,9 @@ impl Jitted {
             .map_err(|e| e.to_string())?;
         let mut module = JITModule::new(JITBuilder::with_isa(isa, default_libcall_names()));
         let ptr = module.target_config().pointer_type();
-        if tape.vars() > MAX_VARS {
-            return Err(format!("more than {MAX_VARS} variables"));
-        }
         let mut sig = module.make_signature();
-        sig.params.extend([AbiParam::new(types::F64); MAX_VARS]);
-        sig.params.push(AbiParam::new(ptr));
+        sig.params.extend([AbiParam::new(types::F64); REGISTER_VARS]);
+        sig.params.extend([AbiParam::new(ptr), AbiParam::new(ptr)]);
         let id =
             module.declare_function("tape", Linkage::Local, &sig).map_err(|e| e.to_string())?;
         let mut ctx = Context::new();
@@ -106,7 +105,11 @@ impl Jitted {
             b.switch_to_block(block);
             b.seal_block(block);
             let params = b.block_params(block);
-            let (vars, out) = (params[..MAX_VARS].to_vec(), params[MAX_VARS]);
+            let (vars, out, rest) = (
+                params[..REGISTER_VARS].to_vec(),
+                params[REGISTER_VARS],
+                params[REGISTER_VARS + 1],
+            );
             let f64t = types::F64;
             let mut s1 = module.make_signature();
             s1.params.push(AbiParam::new(f64t));
@@ -134,7 +137,11 @@ impl Jitted {
             for ins in tape.instructions() {
                 let v = match ins.op {
                     Op::Const(c) => b.ins().f64const(c),
-                    Op::Var(i) => vars[i as usize],
+                    Op::Var(i) if (i as usize) < REGISTER_VARS => vars[i as usize],
+                    Op::Var(i) => {
+                        let offset = 8 * (i as usize - REGISTER_VARS) as i32;
+                        b.ins().load(f64t, flags, rest, offset)
+                    }
                     Op::Add(x, y) => {
                         let (x, y) = (get(&slot, x)?, get(&slot, y)?);
                         b.ins().fadd(x, y)
@@ -198,7 +205,10 @@ impl Jitted {
                     }
                     Op::Call(func, x) => {
                         let x = get(&slot, x)?;
-                        let index = Func::ALL.iter().position(|(_, f)| *f == func).unwrap_or(0);
+                        let index = Func::ALL
+                            .iter()
+                            .position(|(_, f)| *f == func)
+                            .ok_or("a function outside Func::ALL")?;
                         let which = b.ins().iconst(types::I32, index as i64);
                         let f = b.ins().iconst(ptr, call as *const () as usize as i64);
                         let c = b.ins().call_indirect(call_sig, f, &[which, x]);
@@ -254,8 +264,10 @@ impl Jitted {
         assert!(vars.len() >= self.vars && room >= self.outputs, "a tape's inputs and outputs");
         // Unused arguments are ignored: any value will do, and a known length drops the test.
         let x = |i: usize| vars.get(i).copied().unwrap_or(0.0);
+        let rest = vars.get(REGISTER_VARS..).map_or(std::ptr::null(), <[f64]>::as_ptr);
         // SAFETY: the code writes `self.outputs` doubles to `out`, which has room for them
-        // (asserted above), and reads nothing but its arguments.
-        unsafe { (self.code)(x(0), x(1), x(2), x(3), x(4), x(5), out) }
+        // (asserted above), and reads nothing but its arguments and, for a tape of more than
+        // REGISTER_VARS variables, `vars[REGISTER_VARS..self.vars]` through `rest`.
+        unsafe { (self.code)(x(0), x(1), x(2), x(3), x(4), x(5), out, rest) }
     }
 }

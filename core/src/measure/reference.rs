@@ -21,10 +21,11 @@
 //! that must be able to stop (a server whose client went away) passes a `stop` flag to
 //! [`reference_until`], looked at in `solout` every [`STOP_EVERY`] accepted steps.
 
+use crate::Short;
 use crate::Vector;
 use crate::model::mechanical::Mechanical;
 use nalgebra::DVector;
-use ode_solvers::dop_shared::OutputType;
+use ode_solvers::dop_shared::{IntegrationError, OutputType};
 use ode_solvers::dop853::Dop853;
 use std::cell::RefCell;
 use std::f64::consts::TAU;
@@ -48,9 +49,30 @@ pub const CHUNK: u32 = 1000;
 /// Why a reference solve failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ReferenceError {
-    /// Dop853 gave up (step size underflow, too many steps, stiffness).
-    #[error("reference solve failed: {0}")]
-    Solver(String),
+    /// The solve needs more than [`MAX_STEPS`] steps to reach t_end.
+    #[error(
+        "the reference solve (Dop853) needs more than {} steps to reach t_end = {}: it stopped \
+         at t = {}",
+        Short(f64::from(*limit)),
+        Short(*t_end),
+        Short(*t)
+    )]
+    TooManySteps {
+        /// The limit, [`MAX_STEPS`].
+        limit: u32,
+        /// Where it stopped.
+        t: f64,
+        /// Where it was to go.
+        t_end: f64,
+    },
+    /// Dop853 gave up otherwise: its step size underflowed, or the problem became stiff.
+    #[error("the reference solve (Dop853) stopped at t = {}: {why}", Short(*t))]
+    Solver {
+        /// Where it stopped.
+        t: f64,
+        /// Why, in words.
+        why: String,
+    },
     /// The solution became non-finite.
     #[error("reference solve diverged")]
     Diverged,
@@ -162,9 +184,7 @@ pub fn reference_until<S: Mechanical<N, R>, const N: usize, const R: usize>(
         loop {
             let budget = MAX_STEPS.saturating_sub(steps);
             if budget == 0 {
-                return Err(ReferenceError::Solver(format!(
-                    "more than {MAX_STEPS} steps needed (stopped at t = {x})"
-                )));
+                return Err(ReferenceError::TooManySteps { limit: MAX_STEPS, t: x, t_end });
             }
             {
                 let mut tracked = track.borrow_mut();
@@ -190,7 +210,19 @@ pub fn reference_until<S: Mechanical<N, R>, const N: usize, const R: usize>(
                 1000,
                 OutputType::Sparse,
             );
-            let stats = solver.integrate().map_err(|e| ReferenceError::Solver(e.to_string()))?;
+            let stats = solver.integrate().map_err(|e| match e {
+                // The budget handed to this solver is what the solve has left of MAX_STEPS.
+                IntegrationError::MaxNumStepReached { x, .. } => {
+                    ReferenceError::TooManySteps { limit: MAX_STEPS, t: x, t_end }
+                }
+                IntegrationError::StepSizeUnderflow { x } => {
+                    ReferenceError::Solver { t: x, why: "its step size underflowed".into() }
+                }
+                IntegrationError::StiffnessDetected { x } => ReferenceError::Solver {
+                    t: x,
+                    why: "the problem became stiff for an explicit solver".into(),
+                },
+            })?;
             (evaluations, steps) = (evaluations + stats.num_eval, steps + stats.accepted_steps);
             let (xs, ys) = (solver.x_out(), solver.y_out());
             stored = stored.max(ys.len());

@@ -85,8 +85,9 @@ impl GeneralStepper for Rattle {
         solve(&self.newton, &mut p1, &mut lambda, |p1, lambda| {
             let v1 = mass.solve(p1);
             let q1 = q_half + 0.5 * h * v1;
-            let a1 = sys.constraint(&q1);
-            let dc = a1 + (0.5 * h) * sys.derivatives(&q1).constraint_jacobian(&v1);
+            let (f1, d1) = sys.forces_and_derivatives(&q1);
+            let a1 = f1.constraint;
+            let dc = a1 + (0.5 * h) * d1.constraint_jacobian(&v1);
             Linearization {
                 f1: p1 - p0 + h * half.gradient + g * lambda,
                 f2: a1 * v1,

@@ -256,3 +256,29 @@ fn a_constant_powers_derivative_is_finite_at_zero() {
     assert_eq!(g.eval(d, &[0.0, 0.0, 0.0]), 0.0);
     assert!((g.eval(d, &[1.0, 0.0, 0.0]) - 3.0).abs() < 1e-15);
 }
+
+/// A tape of more variables than the machine code takes in registers reads the rest from
+/// memory: the same numbers as the interpreter, bit for bit.
+#[test]
+fn machine_code_reads_variables_beyond_the_registers() {
+    use nhlab_core::formula::{Function, Graph, Tape};
+    let mut g = Graph::new();
+    let vars: Vec<_> = (0..9).map(|i| g.var(i)).collect();
+    let mut sum = g.num(0.0);
+    for (i, &v) in vars.iter().enumerate() {
+        let k = g.num(i as f64 + 0.5);
+        let s = g.call(nhlab_core::formula::Func::Sin, v);
+        let term = g.mul(k, s);
+        sum = g.add(sum, term);
+    }
+    let last = g.mul(vars[8], vars[6]);
+    let tape = Tape::compile(&g, &[sum, last, vars[7]], 9);
+    let (native, interpreted) = (Function::new(tape.clone(), true), Function::new(tape, false));
+    assert!(native.is_native(), "nine variables compile to machine code");
+    let x: Vec<f64> = (0..9).map(|i| 0.3 * i as f64 - 1.1).collect();
+    let (mut a, mut b) = ([0.0; 3], [0.0; 3]);
+    native.eval(&x, &mut a);
+    interpreted.eval(&x, &mut b);
+    assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
+    assert_eq!(a[2], x[7]);
+}

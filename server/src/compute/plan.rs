@@ -176,15 +176,23 @@ fn check_steps(
                 )),
                 Short(scene.t_end),
                 Short(scene.step),
-                if steps < 1_000_000_000_000_000 {
-                    steps.to_string()
-                } else {
-                    Short(stages as f64 * scene.t_end / scene.step).to_string()
-                },
+                steps_text(scene, stages),
             ),
         ));
     }
     Ok(())
+}
+
+/// The steps a run of `scene` takes with `stages` sub-steps per step, as a message writes them:
+/// exactly where they are counted exactly, about so (`about 3e303`) where their count would not
+/// fit an integer.
+pub fn steps_text(scene: &Scene, stages: usize) -> String {
+    let steps = scene.steps().saturating_mul(stages as u64);
+    if steps < 1_000_000_000_000_000 {
+        steps.to_string()
+    } else {
+        format!("about {}", Short(stages as f64 * scene.t_end / scene.step))
+    }
 }
 
 /// The methods of a request (the paper's five when none are given), within the limit.

@@ -219,10 +219,7 @@ fn compute(job: &Job, caches: &Caches, cancel: &Cancel) -> Result<WorkPrecisionR
     );
     let r = solved.map_err(|e| match e {
         ReferenceError::Cancelled => AppError::internal("the work-precision run was cancelled"),
-        e => AppError::invalid(
-            "t_end",
-            format!("{e} (Dop853 to t_end at tolerance {TOL:e}); try a shorter t_end"),
-        ),
+        e => AppError::invalid("t_end", format!("{e}, at tolerance {TOL:e}; try a shorter t_end")),
     })?;
     let mut rows = Vec::with_capacity(job.plan.methods.len() * job.steps.len());
     for (method, view) in job.plan.methods.iter().zip(&job.plan.scene.methods) {

@@ -4,7 +4,7 @@
 //! field; what an axis's value made wrong (an initial velocity off the constraints for this
 //! ε, a step longer than t_end, an α out of range) is that cell's, reported in its rows.
 
-use crate::compute::{Delivery, check_answer_bytes, method, methods, points};
+use crate::compute::{Delivery, check_answer_bytes, method, methods, points, steps_text};
 use crate::config::Config;
 use crate::error::AppError;
 use crate::request::{MethodRequest, SimulateRequest, SweepRequest, SystemField};
@@ -341,7 +341,8 @@ fn check_steps(
         Delivery::Stream => config.max_steps_stream,
         Delivery::Json | Delivery::JsonOnly => config.max_steps_json,
     };
-    let mut total: u64 = 0;
+    // Exact, and as a float for the message where the exact sum would not fit.
+    let (mut total, mut about): (u64, f64) = (0, 0.0);
     for cell in cells {
         let Ok(scene) = &cell.scene else { continue };
         for (_, m) in &cell.methods {
@@ -356,15 +357,17 @@ fn check_steps(
                 return Err(AppError::invalid(
                     "axes",
                     format!(
-                        "the run of {} at {} takes {steps} steps, over the limit of {limit} \
+                        "the run of {} at {} takes {} steps, over the limit of {limit} \
                          steps per run (max_steps_{}); narrow the axes or shorten t_end",
                         m.label(),
                         at.join(", "),
+                        steps_text(scene, m.stages()),
                         if delivery == Delivery::Stream { "stream" } else { "json" },
                     ),
                 ));
             }
             total = total.saturating_add(steps);
+            about += m.stages() as f64 * scene.t_end / scene.step;
         }
     }
     if total > config.max_sweep_steps {
@@ -374,7 +377,7 @@ fn check_steps(
                 "the sweep would take {} steps in all (cells × methods × steps per run), over \
                  the limit of {} (max_sweep_steps); narrow the axes, shorten t_end or \
                  lengthen the step, or split it into shards (nhlab sweep --shard)",
-                Short(total as f64),
+                Short(about.max(total as f64)),
                 Short(config.max_sweep_steps as f64)
             ),
         ));

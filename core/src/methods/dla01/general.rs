@@ -33,13 +33,14 @@ impl GeneralStepper for Dla01 {
         let m = mass.matrix();
         solve(&self.newton, &mut v1, &mut lambda, |v1, lambda| {
             let q1 = q_half + 0.5 * h * v1;
-            let a1 = sys.constraint(&q1);
+            let (f1, d1) = sys.forces_and_derivatives(&q1);
+            let a1 = f1.constraint;
             Linearization {
                 f1: mass.times(v1) - w + g * lambda,
                 f2: a1 * v1,
                 b: m,
                 g,
-                c: a1 + (0.5 * h) * sys.derivatives(&q1).constraint_jacobian(v1),
+                c: a1 + (0.5 * h) * d1.constraint_jacobian(v1),
                 b_maybe_bordered: false,
                 affine_but_for_the_driver: false,
             }

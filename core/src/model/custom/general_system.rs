@@ -9,6 +9,7 @@
 use super::general::GeneralCompiled;
 use crate::model::mechanical::{Derivatives, Forces, Mass, Mechanical};
 use crate::{Matrix, Vector};
+use std::mem::MaybeUninit;
 use std::sync::Arc;
 
 /// See the module's doc.
@@ -78,10 +79,10 @@ impl<const N: usize, const R: usize> Mechanical<N, R> for GeneralCustom<N, R> {
     }
     #[inline]
     fn forces(&self, q: &Vector<N>) -> Forces<N, R> {
-        let mut values = [f64::NAN; 12 + 11 * 12];
-        let k = self.compiled.forces.outputs();
-        self.compiled.forces.eval(self.q(q), &mut values[..k]);
-        self.forces_from(&values)
+        // Written by the code, not filled first: the buffer is sized for the largest system.
+        let mut values = [MaybeUninit::uninit(); 12 + 11 * 12];
+        let values = self.compiled.forces.eval_uninit(self.q(q), &mut values);
+        self.forces_from(values)
     }
     #[inline]
     fn derivatives(&self, q: &Vector<N>) -> Derivatives<N, R> {
@@ -90,10 +91,9 @@ impl<const N: usize, const R: usize> Mechanical<N, R> for GeneralCustom<N, R> {
     #[inline]
     fn forces_and_derivatives(&self, q: &Vector<N>) -> (Forces<N, R>, Derivatives<N, R>) {
         let (n, m) = (self.compiled.n, self.compiled.m);
-        let mut values = [f64::NAN; MAX_TERMS];
-        let k = self.compiled.terms.outputs();
-        self.compiled.terms.eval(self.q(q), &mut values[..k]);
-        let forces = self.forces_from(&values);
+        let mut values = [MaybeUninit::uninit(); MAX_TERMS];
+        let values = self.compiled.terms.eval_uninit(self.q(q), &mut values);
+        let forces = self.forces_from(values);
         let mut at = n + m * n;
         let mut hessian = Matrix::<N, N>::zeros();
         for i in 0..n {
