@@ -260,8 +260,9 @@ pub enum StepFailure {
     /// The constraint matrix lost rank: its rows are no longer independent, and the
     /// multiplier is no longer determined.
     #[error(
-        "the constraint matrix A(q) lost rank: its smallest singular value is {smallest:.3e}, \
-         below 1e-8 of its {initial:.3e} at the start"
+        "the constraint matrix A(q) lost rank at or within this step (its smallest singular \
+         value is {smallest:.3e} here, {initial:.3e} at the start): its rows are no longer \
+         independent"
     )]
     RankLost {
         /// The smallest singular value of A(q) at the state reached.

@@ -21,7 +21,7 @@ pub mod parse;
 pub mod tape;
 
 pub use error::{FormulaError, Limits};
-pub use function::Function;
+pub use function::{Function, MAX_PARAM_INPUTS, PARAM_VAR};
 pub use graph::{Func, Graph, Id};
 pub use jit::Jitted;
 pub use tape::Tape;

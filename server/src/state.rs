@@ -3,16 +3,47 @@
 //! simulations, the shutdown flag and the [`Caches`] of latitude axes and references.
 
 use crate::compute::{
-    ActiveRuns, AnswerBudget, BudgetGuard, Caches, RunGuard, Runner, Slot, off_runtime,
+    ActiveRuns, AnswerBudget, BudgetGuard, Caches, Cancel, RunGuard, Runner, Slot, off_runtime,
 };
 use crate::config::Config;
 use crate::error::AppError;
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 use tokio::sync::{Semaphore, watch};
 
 /// How long a request may wait for a permit to be checked before it gets 503.
 pub const CHECK_WAIT: Duration = Duration::from_secs(1);
+
+/// How long checking one request may take: a check that goes on longer (a sweep of very many
+/// cells of a large system, say) stops with a 422, so that no request holds a check permit
+/// for long.
+pub const CHECK_BUDGET: Duration = Duration::from_secs(5);
+
+/// What a check looks at between its pieces of work: whether its client left, and its time.
+#[derive(Debug)]
+pub struct Checking {
+    cancel: Cancel,
+    deadline: Instant,
+}
+
+impl Checking {
+    /// The error the check stops with, if it must stop now.
+    pub fn stop(&self) -> Option<AppError> {
+        if self.cancel.is_cancelled() {
+            return Some(AppError::unavailable("the client went away"));
+        }
+        (Instant::now() > self.deadline).then(|| AppError {
+            status: axum::http::StatusCode::UNPROCESSABLE_ENTITY,
+            path: None,
+            message: format!(
+                "checking this request takes longer than {} s (each request's check \
+                     budget); ask for fewer cells, or split the sweep into shards (nhlab \
+                     sweep --shard)",
+                CHECK_BUDGET.as_secs()
+            ),
+        })
+    }
+}
 
 /// Shared state of the app; cheap to clone.
 #[derive(Debug, Clone)]
@@ -67,13 +98,14 @@ impl AppState {
         (self.budget.used(), self.budget.limit())
     }
 
-    /// Checks a request with `check` (which may compute: a latitude axis) on the blocking
-    /// pool, at most `max_simulations` at once: a flood of requests cannot take more threads
-    /// or cores for checking than simulations have. Waits up to [`CHECK_WAIT`] for a turn,
-    /// then 503.
+    /// Checks a request with `check` (which may compute: a latitude axis, a system's
+    /// compilation) on the blocking pool, at most `max_simulations` at once: a flood of
+    /// requests cannot take more threads or cores for checking than simulations have. Waits
+    /// up to [`CHECK_WAIT`] for a turn, then 503. `check` is handed a [`Checking`] that says
+    /// when to stop: its client left, or [`CHECK_BUDGET`] is spent.
     pub async fn check<T: Send + 'static>(
         &self,
-        check: impl FnOnce() -> Result<T, AppError> + Send + 'static,
+        check: impl FnOnce(&Checking) -> Result<T, AppError> + Send + 'static,
     ) -> Result<T, AppError> {
         let permit = tokio::time::timeout(CHECK_WAIT, self.checks.clone().acquire_owned())
             .await
@@ -84,11 +116,14 @@ impl AppState {
                     "the server is busy checking other requests; retry in a moment",
                 )
             })?;
-        // The permit goes with the check: if the client leaves, the check still runs to its
-        // end on the blocking pool, and still counts.
+        // The permit goes with the check: if the client leaves, the check runs on the blocking
+        // pool until it next looks at `checking`, and counts until then.
+        let cancel = Cancel::default();
+        let _on_drop = cancel.on_drop();
+        let checking = Checking { cancel, deadline: Instant::now() + CHECK_BUDGET };
         off_runtime(move || {
             let _permit = permit;
-            check()
+            check(&checking)
         })
         .await
     }

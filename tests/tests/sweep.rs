@@ -343,3 +343,55 @@ async fn a_sweep_stops_when_its_client_leaves() {
     let took = server.wait_idle(Duration::from_secs(10)).await;
     assert!(took < Duration::from_secs(5), "stopped after {took:?}");
 }
+
+/// A system of about 1,900 characters of smooth formulas whose U reads the parameter `k`.
+fn large_formula_system() -> Value {
+    let mut terms = Vec::new();
+    let mut i = 0;
+    while terms.iter().map(|t: &String| t.len() + 1).sum::<usize>() < 1900 {
+        terms.push(format!("0.{}*cos(x*{}+y/{})", i % 9 + 1, i % 7 + 1, i % 5 + 2));
+        i += 1;
+    }
+    json!({"name": "large", "passenger": ["x", "y"], "driver": "z", "parameters": {"k": 1},
+        "passenger_potential": format!("k*x^2 + {}", terms.join("+")),
+        "driver_potential": "z^2/2", "constraints": [["cos(z)", "sin(z)"]]})
+}
+
+/// A sweep over a parameter of a large system given as formulas compiles it once, the
+/// parameter an input of the code: 1,000 cells are answered in seconds, where compiling
+/// each cell's system (a tenth of a second each in a release build, more here) would take
+/// minutes.
+#[tokio::test]
+async fn a_sweep_over_a_formula_system_s_parameter_compiles_it_once() {
+    let server = TestServer::start().await;
+    let values: Vec<f64> = (0..1000).map(|j| 1.0 + j as f64 * 1e-3).collect();
+    let body = json!({"system": large_formula_system(), "q": [0.1, 0.2, 0.3], "v": [0, 0, 1],
+        "step": 0.01, "t_end": 0.01, "methods": ["leapfrog"],
+        "axes": [{"path": "params.k", "values": values}]});
+    let started = std::time::Instant::now();
+    let (status, answer) = server.post_json("/sweep", &body).await;
+    let took = started.elapsed();
+    assert_eq!(status, 200, "{}", answer["error"]);
+    let rows = answer["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 1000);
+    assert!(rows.iter().all(|r| r["status"] == "ok"));
+    assert_eq!(rows[999]["simulate"]["system"]["parameters"]["k"], json!(values[999]));
+    assert!(took < Duration::from_secs(60), "1,000 cells took {took:?}");
+}
+
+/// The step limits are checked before anything is compiled: a sweep over the limit is refused
+/// for its steps even when its formulas would not compile.
+#[tokio::test]
+async fn a_sweep_s_steps_are_checked_before_its_formulas_are_compiled() {
+    let server = TestServer::start().await;
+    let mut system = large_formula_system();
+    system["passenger_potential"] = json!("k*x^2 + (");
+    let body = json!({"system": system, "q": [0.1, 0.2, 0.3], "v": [0, 0, 1],
+        "step": 1e-300, "t_end": 1, "methods": ["leapfrog"],
+        "axes": [{"path": "params.k", "values": [1, 2]}]});
+    let (status, answer) = server.post_json("/sweep", &body).await;
+    assert_eq!(status, 422);
+    assert_eq!(answer["path"], "axes", "{answer}");
+    let error = answer["error"].as_str().unwrap();
+    assert!(error.contains("about 1.0e300 steps"), "{error}");
+}

@@ -4,9 +4,10 @@
 //! built-in system ([`FormulaSpec::of`], [`GeneralSpec::of_built_in`]).
 
 use super::registry::{SystemCode, SystemEntry, class_code, general_code};
+use crate::formula::MAX_PARAM_INPUTS;
 use crate::model::custom::{
-    Compiled, CustomLimits, FormulaSpec, Formulated, GeneralSpec, Invariants, MassSpec, Passenger,
-    Structure,
+    Compiled, CustomLimits, FormulaSpec, Formulated, GeneralSpec, Invariants, MassSpec, Parameters,
+    Passenger, Structure, parameter_values,
 };
 use crate::model::system::{Form, SystemInfo};
 use crate::{InputError, Integral, Short};
@@ -42,13 +43,27 @@ impl SystemSpec {
             Self::General(s) => &mut s.parameters,
         }
     }
+    /// The same with its parameters' values replaced by `values` (in order).
+    pub fn with_values(&self, values: &[f64]) -> Self {
+        let mut spec = self.clone();
+        for (p, value) in spec.parameters_mut().iter_mut().zip(values) {
+            p.1 = *value;
+        }
+        spec
+    }
 }
 
 /// A compiled system given as formulas; see the module's doc.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct CustomSystem {
-    /// As given, with the parameters at the values compiled in.
-    pub spec: SystemSpec,
+    /// As given (the parameters at the values it declares; see `values`), shared by the
+    /// systems bound from one compilation.
+    pub spec: Arc<SystemSpec>,
+    /// The parameters' values it runs with, in the spec's order.
+    pub values: Vec<f64>,
+    /// How the parameters enter its code: folded in, or inputs it is bound to
+    /// ([`bind`](Self::bind)).
+    pub parameters: Parameters,
     /// What it compiled to.
     pub structure: Structure,
     /// The code of its sizes.
@@ -69,41 +84,48 @@ pub struct CustomSystem {
 }
 
 impl CustomSystem {
-    /// Compiles `spec` with the parameter `overrides` of a request.
+    /// Compiles `spec` with the parameter `overrides` of a request, folded into the code.
     pub fn compile(
         spec: &FormulaSpec,
         overrides: &[(String, f64)],
         limits: &CustomLimits,
     ) -> Result<Self, InputError> {
-        let compiled = Compiled::new(spec, overrides, limits)?;
+        Self::compile_with(spec, overrides, limits, Parameters::Folded)
+    }
+
+    /// [`compile`](Self::compile), the parameters entering the code as `parameters` says
+    /// (inputs only where there are at most [`MAX_PARAM_INPUTS`]; folded otherwise).
+    pub fn compile_with(
+        spec: &FormulaSpec,
+        overrides: &[(String, f64)],
+        limits: &CustomLimits,
+        parameters: Parameters,
+    ) -> Result<Self, InputError> {
+        let parameters = usable(parameters, spec.parameters.len());
+        let compiled = Compiled::new(spec, overrides, limits, parameters)?;
         let code =
             class_code(compiled.n + 1, compiled.r).ok_or_else(|| InputError::CustomSystem {
                 field: "system.passenger".into(),
                 message: "a system given as formulas needs at least 2 passenger coordinates".into(),
             })?;
-        let mut integrals =
-            vec![Integral::Energy, Integral::PassengerEnergy, Integral::DriverEnergy];
-        if compiled.latitude {
-            integrals.push(Integral::Latitude);
-        }
-        integrals.push(Integral::Constraint);
-        let mut spec = SystemSpec::Coupled(spec.clone());
-        for (p, value) in spec.parameters_mut().iter_mut().zip(&compiled.values) {
-            p.1 = *value;
-        }
         let dof = compiled.n + 1;
         let driver = compiled.n;
-        Ok(Self {
-            spec,
-            structure: Structure::Class { compiled: Arc::new(compiled), driver },
+        let values = compiled.values.clone();
+        let structure = Structure::Class { compiled: Arc::new(compiled), driver };
+        let system = Self {
+            spec: Arc::new(SystemSpec::Coupled(spec.clone())),
+            values,
+            parameters,
+            integrals: integrals_of(&structure, 0),
+            structure,
             code,
-            integrals,
             invariants: None,
             order: (0..dof).collect(),
             dof,
             not_class: None,
             built_in: None,
-        })
+        };
+        system.bound(parameters, overrides, limits)
     }
 
     /// Compiles `spec`, given in the general form, with the parameter `overrides` of a
@@ -113,7 +135,19 @@ impl CustomSystem {
         overrides: &[(String, f64)],
         limits: &CustomLimits,
     ) -> Result<Self, InputError> {
-        let f = Formulated::new(spec, overrides, limits)?;
+        Self::compile_general_with(spec, overrides, limits, Parameters::Folded)
+    }
+
+    /// [`compile_general`](Self::compile_general), the parameters entering the code as
+    /// `parameters` says (as [`compile_with`](Self::compile_with)).
+    pub fn compile_general_with(
+        spec: &GeneralSpec,
+        overrides: &[(String, f64)],
+        limits: &CustomLimits,
+        parameters: Parameters,
+    ) -> Result<Self, InputError> {
+        let parameters = usable(parameters, spec.parameters.len());
+        let f = Formulated::new(spec, overrides, limits, parameters)?;
         let code = match &f.structure {
             Structure::Class { .. } => class_code(f.n, f.m),
             Structure::General(_) => general_code(f.n, f.m),
@@ -122,22 +156,37 @@ impl CustomSystem {
             field: "system.coordinates".into(),
             message: format!("no code for {} coordinates and {} constraints", f.n, f.m),
         })?;
-        let mut spec = SystemSpec::General(spec.clone());
-        for (p, value) in spec.parameters_mut().iter_mut().zip(&f.values) {
-            p.1 = *value;
-        }
-        let integrals = f.integrals();
-        Ok(Self {
-            spec,
+        let system = Self {
+            spec: Arc::new(SystemSpec::General(spec.clone())),
+            values: f.values,
+            parameters,
+            integrals: integrals_of(
+                &f.structure,
+                f.invariants.as_ref().map_or(0, |i| i.names().len()),
+            ),
             structure: f.structure,
             code,
-            integrals,
             invariants: f.invariants,
             order: f.order,
             dof: f.n,
             not_class: f.not_class,
             built_in: None,
-        })
+        };
+        system.bound(parameters, overrides, limits)
+    }
+
+    /// The system as compiled, its code bound to the values of `overrides` where the
+    /// parameters are its inputs (code reading inputs it is not given never runs).
+    fn bound(
+        self,
+        parameters: Parameters,
+        overrides: &[(String, f64)],
+        limits: &CustomLimits,
+    ) -> Result<Self, InputError> {
+        match parameters {
+            Parameters::Folded => Ok(self),
+            Parameters::Inputs => self.bind(overrides, limits),
+        }
     }
 
     /// A built-in given as formulas, compiled for these parameter values (in the order of
@@ -153,6 +202,50 @@ impl CustomSystem {
         let mut system = Self::compile_general(&spec(params)?, &[], limits)?;
         system.built_in = Some(entry);
         Ok(system)
+    }
+
+    /// The same system with the parameter `overrides` of another request (over the values
+    /// its spec declares): its code bound to the new values where the parameters are its
+    /// inputs (M evaluated and checked again), compiled again where they are folded in.
+    pub fn bind(
+        &self,
+        overrides: &[(String, f64)],
+        limits: &CustomLimits,
+    ) -> Result<Self, InputError> {
+        if self.parameters == Parameters::Folded {
+            let mut system = match &*self.spec {
+                SystemSpec::Coupled(s) => Self::compile(s, overrides, limits)?,
+                SystemSpec::General(s) => Self::compile_general(s, overrides, limits)?,
+            };
+            system.built_in = self.built_in;
+            return Ok(system);
+        }
+        let values = parameter_values(self.spec.parameters(), overrides)?;
+        let params: Arc<[f64]> = values.as_slice().into();
+        let structure = match (&self.structure, &*self.spec) {
+            (Structure::Class { compiled, driver }, _) => {
+                Structure::Class { compiled: Arc::new(compiled.bind(&values)), driver: *driver }
+            }
+            (Structure::General(g), SystemSpec::General(spec)) => {
+                Structure::General(Arc::new(g.bind(spec, &values, limits)?))
+            }
+            (Structure::General(_), SystemSpec::Coupled(_)) => {
+                unreachable!("the paper's form compiles to the paper's class")
+            }
+        };
+        let invariants = self.invariants.as_ref().map(|i| Arc::new(i.bind(&params)));
+        Ok(Self {
+            values,
+            integrals: integrals_of(&structure, invariants.as_ref().map_or(0, |i| i.names().len())),
+            structure,
+            invariants,
+            ..self.clone()
+        })
+    }
+
+    /// The spec with the parameters at the values it runs with (as a request echoes it).
+    pub fn spec_at_values(&self) -> SystemSpec {
+        self.spec.with_values(&self.values)
     }
 
     /// The class's compilation, where it runs as the paper's class.
@@ -184,7 +277,8 @@ impl CustomSystem {
     /// Checks the initial configuration: every formula finite there, and `A_x(ζ₀)` of full
     /// rank (its smallest singular value above 10⁻¹⁰ of its largest, and of 1).
     pub fn check_start(&self, q: &[f64]) -> Result<(), InputError> {
-        let Some(c) = self.class_compiled().filter(|_| matches!(self.spec, SystemSpec::Coupled(_)))
+        let Some(c) =
+            self.class_compiled().filter(|_| matches!(*self.spec, SystemSpec::Coupled(_)))
         else {
             return Ok(());
         };
@@ -256,6 +350,27 @@ impl CustomSystem {
         }
         Ok(())
     }
+}
+
+/// The integrals of a system compiled to `structure` with `invariants` invariants: H, E and
+/// h where it is in the paper's class (the latitude where the class's definition holds), the
+/// constraint, its invariants.
+fn integrals_of(structure: &Structure, invariants: usize) -> Vec<Integral> {
+    let mut out = vec![Integral::Energy];
+    if let Structure::Class { compiled, .. } = structure {
+        out.extend([Integral::PassengerEnergy, Integral::DriverEnergy]);
+        if compiled.latitude {
+            out.push(Integral::Latitude);
+        }
+    }
+    out.push(Integral::Constraint);
+    out.extend((0..invariants).map(|k| Integral::Invariant(k as u8)));
+    out
+}
+
+/// `parameters`, or folded where there are too many parameters to be inputs.
+fn usable(parameters: Parameters, count: usize) -> Parameters {
+    if count > MAX_PARAM_INPUTS { Parameters::Folded } else { parameters }
 }
 
 impl FormulaSpec {

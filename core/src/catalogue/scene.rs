@@ -9,7 +9,7 @@ use super::custom::{CustomSystem, SystemSpec};
 use super::registry::{ReferenceState, RunInput, Start, SystemCode, SystemEntry, system};
 use crate::measure::latitude::LatitudeAxis;
 use crate::measure::simulate::{Observer, RunConfig, RunOutcome};
-use crate::model::custom::{CustomLimits, FormulaSpec, GeneralSpec};
+use crate::model::custom::{CustomLimits, FormulaSpec, GeneralSpec, Parameters};
 use crate::model::params::resolve_params;
 use crate::{Bucket, Gap, InputError, Integral, Method, Short};
 use std::ops::ControlFlow;
@@ -150,12 +150,22 @@ pub struct SceneRequest {
     pub t_end: Option<f64>,
 }
 
-/// Systems given as formulas, compiled, by their parameter values, for one system at a
-/// time ([`Scene::resolve_cached`]).
+/// Systems given as formulas, compiled, for one system at a time
+/// ([`Scene::resolve_cached`]): a sweep resolves many scenes of one system.
+///
+/// By default a system is compiled once per set of parameter values, the values folded into
+/// its code. [`CompiledSystems::parameters_as_inputs`] compiles a system given by a request
+/// once, its parameters inputs of the code, and binds that compilation to each set of values
+/// (microseconds, where compiling a large formula takes a good fraction of a second). Built-ins
+/// given as formulas, whose formulas may change with a parameter, are always compiled per set.
 #[derive(Debug, Default)]
 pub struct CompiledSystems {
     /// What the systems kept are compiled from: a spec, or a built-in's id.
     source: Option<Source>,
+    /// How a request's own system takes its parameters.
+    parameters: Parameters,
+    /// Where the parameters are inputs: the one compilation, bound to its first values.
+    template: Option<Arc<CustomSystem>>,
     systems: std::collections::HashMap<Vec<(String, u64)>, Arc<CustomSystem>>,
 }
 
@@ -170,15 +180,33 @@ impl CompiledSystems {
     /// Most systems kept: beyond, compiling is no longer the cost worth saving.
     pub const CAPACITY: usize = 4096;
 
+    /// Compiles a request's own system once, its parameters inputs of the code (see the
+    /// type's doc).
+    pub fn parameters_as_inputs() -> Self {
+        Self { parameters: Parameters::Inputs, ..Self::default() }
+    }
+
     fn get_or_compile(
         &mut self,
         source: Source,
         parameters: &[(String, f64)],
-        compile: impl FnOnce() -> Result<CustomSystem, InputError>,
+        limits: &CustomLimits,
+        compile: impl FnOnce(Parameters) -> Result<CustomSystem, InputError>,
     ) -> Result<Arc<CustomSystem>, InputError> {
         if self.source.as_ref() != Some(&source) {
-            self.source = Some(source);
+            self.source = Some(source.clone());
             self.systems.clear();
+            self.template = None;
+        }
+        if self.parameters == Parameters::Inputs && matches!(source, Source::Spec(_)) {
+            return match &self.template {
+                Some(template) => Ok(Arc::new(template.bind(parameters, limits)?)),
+                None => {
+                    let system = Arc::new(compile(Parameters::Inputs)?);
+                    self.template = Some(system.clone());
+                    Ok(system)
+                }
+            };
         }
         // Bits, not values: -0 and 0 may compile differently, and NaN is refused anyway.
         let key: Vec<(String, u64)> =
@@ -186,7 +214,7 @@ impl CompiledSystems {
         if let Some(found) = self.systems.get(&key) {
             return Ok(found.clone());
         }
-        let custom = Arc::new(compile()?);
+        let custom = Arc::new(compile(Parameters::Folded)?);
         if self.systems.len() < Self::CAPACITY {
             self.systems.insert(key, custom.clone());
         }
@@ -253,6 +281,26 @@ impl Scene {
     /// See [`Scene::CUSTOM_STEP`].
     pub const CUSTOM_T_END: f64 = 100.0;
 
+    /// The step and final time `req` asks for (its own, else its preset's, else the defaults
+    /// of a system given as formulas), without compiling anything: `None` where the system or
+    /// preset is unknown (resolving says why).
+    pub fn step_and_t_end(req: &SceneRequest) -> Option<(f64, f64)> {
+        let (step, t_end) = match &req.system {
+            SystemRequest::Id(id) => {
+                let presets = system(id).ok()?.info().presets;
+                let preset = match &req.preset {
+                    None => presets.first()?,
+                    Some(p) => presets.iter().find(|x| x.id == p)?,
+                };
+                (preset.step, preset.t_end)
+            }
+            SystemRequest::Formulas(_) | SystemRequest::General(_) => {
+                (Self::CUSTOM_STEP, Self::CUSTOM_T_END)
+            }
+        };
+        Some((req.step.unwrap_or(step), req.t_end.unwrap_or(t_end)))
+    }
+
     /// Resolves and checks a request, a system given as formulas within the default limits.
     pub fn resolve(req: &SceneRequest) -> Result<Self, InputError> {
         Self::resolve_within(req, &CustomLimits::default())
@@ -275,15 +323,15 @@ impl Scene {
             SystemRequest::Id(id) => system(id)?,
             SystemRequest::Formulas(spec) => {
                 let source = Source::Spec(SystemSpec::Coupled(spec.clone()));
-                let custom = compiled.get_or_compile(source, &req.params, || {
-                    CustomSystem::compile(spec, &req.params, limits)
+                let custom = compiled.get_or_compile(source, &req.params, limits, |p| {
+                    CustomSystem::compile_with(spec, &req.params, limits, p)
                 })?;
                 return Self::resolve_custom(req, custom);
             }
             SystemRequest::General(spec) => {
                 let source = Source::Spec(SystemSpec::General(spec.clone()));
-                let custom = compiled.get_or_compile(source, &req.params, || {
-                    CustomSystem::compile_general(spec, &req.params, limits)
+                let custom = compiled.get_or_compile(source, &req.params, limits, |p| {
+                    CustomSystem::compile_general_with(spec, &req.params, limits, p)
                 })?;
                 return Self::resolve_custom(req, custom);
             }
@@ -315,7 +363,8 @@ impl Scene {
                 SceneSystem::Custom(compiled.get_or_compile(
                     Source::BuiltIn(info.id),
                     &named,
-                    || CustomSystem::built_in(entry, &params, limits),
+                    limits,
+                    |_| CustomSystem::built_in(entry, &params, limits),
                 )?)
             }
         };
@@ -366,7 +415,7 @@ impl Scene {
         if t_end < step {
             return Err(InputError::TEndTooShort { t_end, step });
         }
-        let params = custom.spec.parameters().iter().map(|p| p.1).collect();
+        let params = custom.values.clone();
         let system = SceneSystem::Custom(custom);
         let internal = internal(&system, &q, &v);
         Self { system, preset: None, params, q, v, step, t_end, internal }.consistent()

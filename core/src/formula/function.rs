@@ -1,17 +1,38 @@
 //! [`Function`]: a compiled tape with, where the host allows, its machine code
 //! ([`Jitted`]): the fast path, run when present; the tape is the general path, kept to
 //! fall back on and to test the fast one against.
+//!
+//! A system's parameters are usually constants folded into its code. Where one compilation
+//! serves many parameter values (a sweep over them), they are inputs instead: variables from
+//! [`PARAM_VAR`] on, after the coordinates and velocities, and a function is *bound* to one
+//! set of values ([`Function::bind`]), which it appends to the caller's variables at each
+//! evaluation. Bound copies share the tape and the machine code.
 
 use super::jit::Jitted;
 use super::tape::Tape;
 use std::mem::MaybeUninit;
+use std::sync::Arc;
 
 /// Most instructions of a tape compiled to machine code.
 pub const MAX_NATIVE: usize = 4096;
 
-/// A tape and its machine code; see the module's doc.
-#[derive(Debug)]
+/// The variable of a system's first parameter where parameters are inputs of its code: after
+/// at most 12 coordinates and their 12 velocities.
+pub const PARAM_VAR: u16 = 24;
+
+/// Most parameters that can be inputs of code.
+pub const MAX_PARAM_INPUTS: usize = 16;
+
+/// A tape and its machine code, and the parameter values it is bound to; see the module's
+/// doc.
+#[derive(Debug, Clone)]
 pub struct Function {
+    code: Arc<Code>,
+    params: Option<Arc<[f64]>>,
+}
+
+#[derive(Debug)]
+struct Code {
     tape: Tape,
     native: Option<Jitted>,
 }
@@ -23,41 +44,66 @@ impl Function {
     pub fn new(tape: Tape, native: bool) -> Self {
         let native = native && tape.len() <= MAX_NATIVE;
         let native = if native { Jitted::compile(&tape).ok() } else { None };
-        Self { tape, native }
+        Self { code: Arc::new(Code { tape, native }), params: None }
+    }
+
+    /// The same code bound to the parameter values `params` (at most [`MAX_PARAM_INPUTS`]),
+    /// read as the variables from [`PARAM_VAR`] on.
+    pub fn bind(&self, params: &Arc<[f64]>) -> Self {
+        debug_assert!(params.len() <= MAX_PARAM_INPUTS);
+        Self { code: self.code.clone(), params: Some(params.clone()) }
     }
 
     /// Whether machine code runs.
     pub fn is_native(&self) -> bool {
-        self.native.is_some()
+        self.code.native.is_some()
     }
 
     /// The tape.
     pub fn tape(&self) -> &Tape {
-        &self.tape
+        &self.code.tape
     }
 
     /// Number of outputs.
     pub fn outputs(&self) -> usize {
-        self.tape.outputs()
+        self.code.tape.outputs()
+    }
+
+    /// `f` of the variables the code reads: the caller's, and the bound parameters after
+    /// them where there are any.
+    #[inline(always)]
+    fn with_inputs<T>(&self, vars: &[f64], f: impl FnOnce(&[f64]) -> T) -> T {
+        match &self.params {
+            None => f(vars),
+            Some(params) => {
+                const BASE: usize = PARAM_VAR as usize;
+                let mut all = [0.0; BASE + MAX_PARAM_INPUTS];
+                let k = vars.len().min(BASE);
+                all[..k].copy_from_slice(&vars[..k]);
+                let p = params.len().min(MAX_PARAM_INPUTS);
+                all[BASE..BASE + p].copy_from_slice(&params[..p]);
+                f(&all[..BASE + p])
+            }
+        }
     }
 
     /// The outputs at `vars` into `out`.
     #[inline]
     pub fn eval(&self, vars: &[f64], out: &mut [f64]) {
-        match &self.native {
+        self.with_inputs(vars, |vars| match &self.code.native {
             Some(code) => code.eval(vars, out),
-            None => self.tape.eval(vars, out),
-        }
+            None => self.code.tape.eval(vars, out),
+        })
     }
 
     /// [`eval`](Self::eval) into memory that need not be initialized (at least
     /// [`outputs`](Self::outputs) long); the outputs, written.
     #[inline]
     pub fn eval_uninit<'a>(&self, vars: &[f64], out: &'a mut [MaybeUninit<f64>]) -> &'a [f64] {
-        match &self.native {
+        self.with_inputs(vars, |vars| match &self.code.native {
             Some(code) => code.eval_uninit(vars, out),
             None => self.interpreted_uninit(vars, out),
-        }
+        })
     }
 
     /// [`eval_uninit`](Self::eval_uninit) by the interpreter.
@@ -68,16 +114,16 @@ impl Function {
         }
         // SAFETY: every element was just written, and `MaybeUninit<f64>` is laid out as `f64`.
         let out = unsafe { &mut *(std::ptr::from_mut(out) as *mut [f64]) };
-        self.tape.eval(vars, out);
+        self.code.tape.eval(vars, out);
         out
     }
 
     /// [`eval`](Self::eval), the tape (if it runs) with the caller's slots.
     #[inline]
     pub fn eval_with(&self, vars: &[f64], slots: &mut Vec<f64>, out: &mut [f64]) {
-        match &self.native {
+        self.with_inputs(vars, |vars| match &self.code.native {
             Some(code) => code.eval(vars, out),
-            None => self.tape.eval_with(vars, slots, out),
-        }
+            None => self.code.tape.eval_with(vars, slots, out),
+        })
     }
 }

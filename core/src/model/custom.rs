@@ -17,7 +17,8 @@ mod invariants;
 mod spec;
 mod system;
 
-pub use compile::{Compiled, Passenger};
+pub(crate) use compile::parameter_values;
+pub use compile::{Compiled, Parameters, Passenger};
 pub use general::{Formulated, GeneralCompiled, Structure};
 pub use general_spec::{GeneralSpec, MAX_COORDINATES, MassEntry, MassSpec};
 pub use general_system::GeneralCustom;

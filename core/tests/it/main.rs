@@ -25,6 +25,7 @@ mod inputs;
 mod latitude;
 mod newton_stopping;
 mod paper_table;
+mod parametric;
 mod properties;
 mod props;
 mod quadratic_shortcuts;

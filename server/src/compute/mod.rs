@@ -20,7 +20,7 @@ pub use budget::{
 };
 pub use cache::{CAPACITY, Cache, Caches, ReferenceKey, SceneKey};
 pub use cancel::{Cancel, CancelOnDrop};
-pub use plan::{Delivery, Plan, check_answer_bytes, method, methods, points, steps_text};
+pub use plan::{Delivery, Plan, check_answer_bytes, method, methods, points, steps_of, steps_text};
 pub use runner::{Finished, PROGRESS_EVERY, Runner, lower_priority, off_runtime};
 pub use slot::Slot;
 pub use thread_clock::{ThreadClock, millis};

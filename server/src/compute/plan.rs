@@ -176,23 +176,28 @@ fn check_steps(
                 )),
                 Short(scene.t_end),
                 Short(scene.step),
-                steps_text(scene, stages),
+                steps_text(scene.step, scene.t_end, stages),
             ),
         ));
     }
     Ok(())
 }
 
-/// The steps a run of `scene` takes with `stages` sub-steps per step, as a message writes them:
-/// exactly where they are counted exactly, about so (`about 3e303`) where their count would not
+/// The steps a run from `step` to `t_end` takes with `stages` sub-steps per step, as a message writes them:
+/// exactly where they are counted exactly, about so (`about 3.0e303`) where their count would not
 /// fit an integer.
-pub fn steps_text(scene: &Scene, stages: usize) -> String {
-    let steps = scene.steps().saturating_mul(stages as u64);
+pub fn steps_text(step: f64, t_end: f64, stages: usize) -> String {
+    let steps = steps_of(step, t_end).saturating_mul(stages as u64);
     if steps < 1_000_000_000_000_000 {
         steps.to_string()
     } else {
-        format!("about {}", Short(stages as f64 * scene.t_end / scene.step))
+        format!("about {:.1e}", stages as f64 * t_end / step)
     }
+}
+
+/// The steps of a run from `step` to `t_end`, as [`Scene::steps`] counts them (saturating).
+pub fn steps_of(step: f64, t_end: f64) -> u64 {
+    (t_end / step + 1e-9).floor() as u64
 }
 
 /// The methods of a request (the paper's five when none are given), within the limit.

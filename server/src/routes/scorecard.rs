@@ -57,7 +57,7 @@ pub async fn scorecard(
 ) -> Result<Json<ScorecardResponse>, AppError> {
     let (plans, held) = {
         let state = state.clone();
-        state.clone().check(move || plans(&req, &state)).await?
+        state.clone().check(move |_| plans(&req, &state)).await?
     };
     tracing::Span::current().record(
         "scene",

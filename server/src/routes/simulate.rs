@@ -53,7 +53,7 @@ pub async fn simulate(
     let delivery = if wants_stream(&headers) { Delivery::Stream } else { Delivery::Json };
     let plan = {
         let (config, caches) = (state.config.clone(), state.caches.clone());
-        state.check(move || Plan::resolve(&req, &config, &caches, delivery)).await?
+        state.check(move |_| Plan::resolve(&req, &config, &caches, delivery)).await?
     };
     let scene = &plan.scene;
     let summary = format!(

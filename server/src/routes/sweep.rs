@@ -66,9 +66,9 @@ pub async fn sweep(
     let sweep = {
         let (config, caches) = (state.config.clone(), state.caches.clone());
         state
-            .check(move || {
+            .check(move |checking| {
                 let axis = move |scene: &nhlab_core::Scene| caches.latitude(scene);
-                Sweep::check(&req, &config, delivery, &axis)
+                Sweep::check(&req, &config, delivery, &axis, &|| checking.stop())
             })
             .await?
     };

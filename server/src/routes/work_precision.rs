@@ -66,7 +66,7 @@ pub async fn work_precision(
 ) -> Result<Json<WorkPrecisionResponse>, AppError> {
     let job = {
         let state = state.clone();
-        state.clone().check(move || Job::resolve(&req, &state)).await?
+        state.clone().check(move |_| Job::resolve(&req, &state)).await?
     };
     tracing::Span::current().record(
         "scene",

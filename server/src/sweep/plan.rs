@@ -3,8 +3,14 @@
 //! unknown system, a bad path, too many cells or steps) is the request's error, with its
 //! field; what an axis's value made wrong (an initial velocity off the constraints for this
 //! ε, a step longer than t_end, an α out of range) is that cell's, reported in its rows.
+//!
+//! What needs no compiling is checked first (cells, steps, the answer's least size); then the
+//! cells' scenes are resolved, a system given as formulas compiled once: where an axis sweeps
+//! its parameters they are inputs of its code, bound per cell
+//! ([`CompiledSystems::parameters_as_inputs`]). The check stops when `stop` says so (its
+//! client left, or its time is up).
 
-use crate::compute::{Delivery, check_answer_bytes, method, methods, points, steps_text};
+use crate::compute::{Delivery, check_answer_bytes, method, methods, points, steps_of, steps_text};
 use crate::config::Config;
 use crate::error::AppError;
 use crate::request::{MethodRequest, SimulateRequest, SweepRequest, SystemField};
@@ -15,6 +21,9 @@ use nhlab_core::{CompiledSystems, InputError, Method, PreparedScene, Scene, Shor
 
 /// Where a sweep's latitude axes come from (a server's cache, or computed).
 pub type AxisSource<'a> = &'a (dyn Fn(&Scene) -> Result<LatitudeAxis, InputError> + Sync);
+
+/// Whether a check must stop, and why (the error it ends with); checked between cells.
+pub type Stop<'a> = &'a (dyn Fn() -> Option<AppError> + Sync);
 
 /// Most axes per sweep.
 pub const MAX_AXES: usize = 3;
@@ -59,6 +68,7 @@ impl Sweep {
         config: &Config,
         delivery: Delivery,
         axis: AxisSource,
+        stop: Stop,
     ) -> Result<Self, AppError> {
         let given = match &req.axes {
             None => return Err(AppError::invalid("axes", "axes is required: 1 to 3 axes")),
@@ -120,15 +130,57 @@ impl Sweep {
         }
         let body = req.to_simulate(None, req.points);
         let method_axes = axes.iter().any(|a| matches!(a.target, Target::Method { .. }));
-        let mut compiled = CompiledSystems::default();
         let n = cells as usize;
-        let mut out = Vec::with_capacity(n);
-        for c in 0..n {
+        let cell = |c: usize| {
             let values = cell_values(&axes, c);
             let (mut body, mut requests) = (body.clone(), requests.clone());
             for (a, &x) in axes.iter().zip(&values) {
                 a.apply(x, &mut body, &mut requests, &q0, &v0);
             }
+            let methods: Vec<(MethodRequest, Result<Method, String>)> = requests
+                .into_iter()
+                .enumerate()
+                .map(|(i, m)| {
+                    let resolved = if method_axes {
+                        method(i, &m)
+                            .map_err(|e| format!("{}: {}", e.path.unwrap_or_default(), e.message))
+                    } else {
+                        Ok(base_methods[i])
+                    };
+                    (m, resolved)
+                })
+                .collect();
+            (values, body, methods)
+        };
+        // First what needs no compiling: the steps of every run.
+        let mut steps = StepCount::new(config, delivery);
+        for c in 0..n {
+            let (values, body, methods) = cell(c);
+            if let Some((step, t_end)) = Scene::step_and_t_end(&body.scene_request()) {
+                steps.add(&axes, &values, step, t_end, &methods)?;
+            }
+        }
+        let total_steps = steps.total()?;
+        if delivery != Delivery::Stream {
+            // At least one integral per row: the answer's least size, known before compiling.
+            let rows = (n * base_methods.len()) as u64;
+            let least = rows.saturating_mul(row_bytes_with(1, axes.len(), 0));
+            check_answer_bytes(least, config, " (its rows)")?;
+        }
+        // Then the scenes: a system given as formulas compiled once.
+        let sweeps_params = axes.iter().any(|a| matches!(a.target, Target::Param(_)));
+        let mut compiled = match &req.system {
+            SystemField::Formulas(_) | SystemField::General(_) if sweeps_params => {
+                CompiledSystems::parameters_as_inputs()
+            }
+            _ => CompiledSystems::default(),
+        };
+        let mut out = Vec::with_capacity(n);
+        for c in 0..n {
+            if let Some(e) = stop() {
+                return Err(e);
+            }
+            let (values, body, methods) = cell(c);
             let scene =
                 match Scene::resolve_cached(&body.scene_request(), &config.formulas, &mut compiled)
                 {
@@ -142,19 +194,6 @@ impl Sweep {
                         Err(format!("{path}: {}", e.message))
                     }
                 };
-            let methods = requests
-                .into_iter()
-                .enumerate()
-                .map(|(i, m)| {
-                    let resolved = if method_axes {
-                        method(i, &m)
-                            .map_err(|e| format!("{}: {}", e.path.unwrap_or_default(), e.message))
-                    } else {
-                        Ok(base_methods[i])
-                    };
-                    (m, resolved)
-                })
-                .collect();
             out.push(Cell { values, scene, methods });
         }
         // What is wrong in every cell alike is the request's, not the axes': a v off the
@@ -164,7 +203,6 @@ impl Sweep {
             let (path, message) = errors[0].split_once(": ").unwrap_or(("", errors[0]));
             return Err(AppError::invalid(path, message));
         }
-        let total_steps = check_steps(&out, &axes, config, delivery)?;
         let integrals = req.integrals.clone();
         let measured = match out.iter().find_map(|c| c.scene.as_ref().ok()) {
             Some(scene) => {
@@ -208,8 +246,14 @@ impl Sweep {
         let (request, method) = &cell.methods[0];
         let echo = self.echo(0, request, method.as_ref().ok());
         let body = serde_json::to_vec(&echo).map_or(1000, |b| b.len()) as u64;
-        300 + 130 * self.head.integrals.len() as u64 + 20 * cell.values.len() as u64 + body
+        row_bytes_with(self.head.integrals.len(), cell.values.len(), body)
     }
+}
+
+/// About how many bytes a row of `integrals` verdicts over `axes` axes takes as JSON, with
+/// an echoed `/simulate` body of `body` bytes.
+fn row_bytes_with(integrals: usize, axes: usize, body: u64) -> u64 {
+    300 + 130 * integrals as u64 + 20 * axes as u64 + body
 }
 
 /// Prepares a cell's scene for the integrals asked for, errors at `integrals[i]`.
@@ -329,58 +373,81 @@ fn check_targets(
     Ok(())
 }
 
-/// Refuses a sweep with a run over the step limit of its delivery, or more steps in all than
-/// `max_sweep_steps`; returns the total.
-fn check_steps(
-    cells: &[Cell],
-    axes: &[Axis],
-    config: &Config,
+/// The steps of a sweep's runs, counted cell by cell: a run over the step limit of its
+/// delivery is refused at once, and so is a total over `max_sweep_steps`.
+struct StepCount<'a> {
+    config: &'a Config,
     delivery: Delivery,
-) -> Result<u64, AppError> {
-    let limit = match delivery {
-        Delivery::Stream => config.max_steps_stream,
-        Delivery::Json | Delivery::JsonOnly => config.max_steps_json,
-    };
-    // Exact, and as a float for the message where the exact sum would not fit.
-    let (mut total, mut about): (u64, f64) = (0, 0.0);
-    for cell in cells {
-        let Ok(scene) = &cell.scene else { continue };
-        for (_, m) in &cell.methods {
+    limit: u64,
+    /// Exact, and as a float for the message where the exact sum would not fit.
+    total: u64,
+    about: f64,
+}
+
+impl<'a> StepCount<'a> {
+    fn new(config: &'a Config, delivery: Delivery) -> Self {
+        let limit = match delivery {
+            Delivery::Stream => config.max_steps_stream,
+            Delivery::Json | Delivery::JsonOnly => config.max_steps_json,
+        };
+        Self { config, delivery, limit, total: 0, about: 0.0 }
+    }
+
+    /// Counts the runs of one cell (a step that is not positive is the cell's error, found
+    /// when its scene is resolved).
+    fn add(
+        &mut self,
+        axes: &[Axis],
+        values: &[f64],
+        step: f64,
+        t_end: f64,
+        methods: &[(MethodRequest, Result<Method, String>)],
+    ) -> Result<(), AppError> {
+        if !(step > 0.0 && t_end >= step && t_end.is_finite()) {
+            return Ok(());
+        }
+        for (_, m) in methods {
             let Ok(m) = m else { continue };
-            let steps = scene.steps().saturating_mul(m.stages() as u64);
-            if steps > limit {
+            let steps = steps_of(step, t_end).saturating_mul(m.stages() as u64);
+            if steps > self.limit {
                 let at: Vec<String> = axes
                     .iter()
-                    .zip(&cell.values)
+                    .zip(values)
                     .map(|(a, x)| format!("{} = {}", a.path, Short(*x)))
                     .collect();
                 return Err(AppError::invalid(
                     "axes",
                     format!(
-                        "the run of {} at {} takes {} steps, over the limit of {limit} \
+                        "the run of {} at {} takes {} steps, over the limit of {} \
                          steps per run (max_steps_{}); narrow the axes or shorten t_end",
                         m.label(),
                         at.join(", "),
-                        steps_text(scene, m.stages()),
-                        if delivery == Delivery::Stream { "stream" } else { "json" },
+                        steps_text(step, t_end, m.stages()),
+                        self.limit,
+                        if self.delivery == Delivery::Stream { "stream" } else { "json" },
                     ),
                 ));
             }
-            total = total.saturating_add(steps);
-            about += m.stages() as f64 * scene.t_end / scene.step;
+            self.total = self.total.saturating_add(steps);
+            self.about += m.stages() as f64 * t_end / step;
         }
+        Ok(())
     }
-    if total > config.max_sweep_steps {
-        return Err(AppError::invalid(
-            "axes",
-            format!(
-                "the sweep would take {} steps in all (cells × methods × steps per run), over \
-                 the limit of {} (max_sweep_steps); narrow the axes, shorten t_end or \
-                 lengthen the step, or split it into shards (nhlab sweep --shard)",
-                Short(about.max(total as f64)),
-                Short(config.max_sweep_steps as f64)
-            ),
-        ));
+
+    /// The total, or the error when it is over `max_sweep_steps`.
+    fn total(&self) -> Result<u64, AppError> {
+        if self.total > self.config.max_sweep_steps {
+            return Err(AppError::invalid(
+                "axes",
+                format!(
+                    "the sweep would take {} steps in all (cells × methods × steps per run), \
+                     over the limit of {} (max_sweep_steps); narrow the axes, shorten t_end or \
+                     lengthen the step, or split it into shards (nhlab sweep --shard)",
+                    Short(self.about.max(self.total as f64)),
+                    Short(self.config.max_sweep_steps as f64)
+                ),
+            ));
+        }
+        Ok(self.total)
     }
-    Ok(total)
 }

@@ -150,7 +150,8 @@ pub fn spec(text: &str, file: &str) -> Result<(Value, Sweep), ShardError> {
     let value: Value = serde_json::from_str(text).map_err(|e| err(AppError::malformed(&e)))?;
     let caches = Caches::default();
     let axis = move |scene: &nhlab_core::Scene| caches.latitude(scene);
-    let sweep = Sweep::check(&req, &local_config(), Delivery::Stream, &axis).map_err(err)?;
+    let sweep =
+        Sweep::check(&req, &local_config(), Delivery::Stream, &axis, &|| None).map_err(err)?;
     Ok((value, sweep))
 }
 

@@ -149,7 +149,7 @@ fn resolved(
     SimulateEcho {
         system: match scene.system.custom() {
             None => SystemField::Id(scene.system.id().to_owned()),
-            Some(c) => SystemField::of(&c.spec),
+            Some(c) => SystemField::of(&c.spec_at_values()),
         },
         preset: scene.preset.map(str::to_owned),
         params: scene.named_params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect(),

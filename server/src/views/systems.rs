@@ -121,7 +121,7 @@ impl PaperClassView {
         let member = scene.system.in_paper_class();
         let (driver, why_not) = match scene.system.formulas() {
             Some(f) => {
-                let driver = match (&f.structure, &f.spec) {
+                let driver = match (&f.structure, &*f.spec) {
                     (Structure::Class { driver, .. }, SystemSpec::General(g)) => {
                         g.coordinates.get(*driver).cloned()
                     }

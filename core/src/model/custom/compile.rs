@@ -2,18 +2,84 @@
 //! parsed with its parameters' values in place, differentiated symbolically (∇U, ∇²U, V_d′,
 //! V_d″, dA/dζ) and compiled into tapes; with what the methods' fast paths ask of a system
 //! (U or V_d quadratic, U absent) read off the derivatives, which are then constants.
+//!
+//! With [`Parameters::Inputs`] the parameters are variables of the code instead
+//! ([`PARAM_VAR`] on), compiled once and bound to each set of values ([`Compiled::bind`]):
+//! what the fast paths ask is then decided for the formulas as written, whatever the values
+//! (U is taken as quadratic only where neither its second derivatives nor U itself depend on
+//! a parameter).
 
 use super::spec::{CustomLimits, FormulaSpec, MAX_PASSENGERS};
 use crate::InputError;
 use crate::formula::derive::Derivative;
 use crate::formula::graph::Node;
 use crate::formula::parse::{Name, Names, parse};
-use crate::formula::{Func, Function, Graph, Id, Tape};
+use crate::formula::{Func, Function, Graph, Id, PARAM_VAR, Tape};
 use std::collections::HashMap;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
+/// How a system's parameters enter its code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Parameters {
+    /// Their values are constants folded into the code: fastest for one set of values.
+    #[default]
+    Folded,
+    /// They are inputs of the code ([`PARAM_VAR`] on), bound per set of values: one
+    /// compilation serves them all.
+    Inputs,
+}
+
+impl Parameters {
+    /// The name of parameter `i` in a formula, whose value is `values[i]`.
+    pub(crate) fn name(self, i: usize, values: &[f64]) -> Name {
+        match self {
+            Self::Folded => Name::Value(values[i]),
+            Self::Inputs => Name::Var(PARAM_VAR + i as u16),
+        }
+    }
+}
+
+/// The variables of a graph at the coordinates `coords` and the parameters at `values` (read
+/// only where they are inputs).
+pub(crate) fn point(coords: &[f64], values: &[f64]) -> Vec<f64> {
+    let mut vars = vec![0.0; PARAM_VAR as usize + values.len()];
+    vars[..coords.len()].copy_from_slice(coords);
+    vars[PARAM_VAR as usize..].copy_from_slice(values);
+    vars
+}
+
+/// Whether `e` depends on a coordinate (a variable before the parameters).
+fn reads_coordinates(g: &Graph, e: Id) -> bool {
+    g.variables(e).first().is_some_and(|&v| v < PARAM_VAR)
+}
+
+/// U as `u₀ + b·x + ½ xᵀH x` from `[U, ∇U, ∇²U (upper triangle)]` at x = 0 (`code`).
+fn quadratic_at_zero(code: &Function, n: usize) -> Passenger {
+    let mut out = vec![0.0; code.outputs()];
+    code.eval(&vec![0.0; n], &mut out);
+    let mut h = vec![0.0; n * n];
+    let mut k = 1 + n;
+    for i in 0..n {
+        for j in i..n {
+            (h[i * n + j], h[j * n + i]) = (out[k], out[k]);
+            k += 1;
+        }
+    }
+    Passenger::Quadratic { u0: out[0], b: out[1..=n].to_vec(), h }
+}
+
+/// Whether the latitude's definition holds (`docs/model.md` §5): two passengers, one
+/// constraint, `U = ½|x|²` up to a constant.
+fn latitude_holds(n: usize, r: usize, passenger: &Passenger) -> bool {
+    n == 2
+        && r == 1
+        && matches!(passenger, Passenger::Quadratic { b, h, .. }
+            if b.iter().all(|&x| x == 0.0) && h == &[1.0, 0.0, 0.0, 1.0])
+}
+
 /// The passenger potential, compiled.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub enum Passenger {
     /// `U = u₀ + b·x + ½ xᵀH x` (every second derivative a constant).
     Quadratic {
@@ -29,7 +95,7 @@ pub enum Passenger {
 }
 
 /// U, ∇U and ∇²U (upper triangle, row by row), compiled.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct GeneralPassenger {
     /// `U`.
     pub u: Function,
@@ -47,6 +113,8 @@ pub(crate) struct ClassGraphs {
     pub r: usize,
     /// The parameters' values.
     pub values: Vec<f64>,
+    /// How the parameters enter the code.
+    pub parameters: Parameters,
     /// The passenger's graph (variables: x₁ … xₙ).
     pub passenger: Graph,
     /// U.
@@ -68,8 +136,13 @@ pub struct Compiled {
     pub r: usize,
     /// The parameters' values, in the spec's order.
     pub values: Vec<f64>,
+    /// How the parameters enter the code.
+    pub parameters: Parameters,
     /// U.
     pub passenger: Passenger,
+    /// `[U, ∇U, ∇²U (upper triangle)]` at x = 0, where U is quadratic and the parameters are
+    /// inputs: its numbers at each binding.
+    at_zero: Option<Function>,
     /// `[V_d, V_d′, V_d″, A (r×n, row by row), dA/dζ (likewise)]` at ζ.
     pub driver: Function,
     /// Identifies this compilation in the per-thread cache of driver terms.
@@ -111,6 +184,7 @@ pub(crate) fn is_identifier(name: &str) -> bool {
 struct Scope<'a> {
     spec: &'a FormulaSpec,
     values: &'a [f64],
+    parameters: Parameters,
     /// Whether the passenger coordinates are this formula's variables (else the driver is).
     passenger: bool,
     /// Why the other kind of coordinate is refused.
@@ -120,7 +194,7 @@ struct Scope<'a> {
 impl Names for Scope<'_> {
     fn resolve(&self, name: &str) -> Option<Name> {
         if let Some(i) = self.spec.parameters.iter().position(|(p, _)| p == name) {
-            return Some(Name::Value(self.values[i]));
+            return Some(self.parameters.name(i, self.values));
         }
         if let Some(i) = self.spec.passenger.iter().position(|p| p == name) {
             return Some(if self.passenger { Name::Var(i as u16) } else { self.refused(name) });
@@ -155,6 +229,7 @@ impl Compiled {
         spec: &FormulaSpec,
         overrides: &[(String, f64)],
         limits: &CustomLimits,
+        parameters: Parameters,
     ) -> Result<Self, InputError> {
         let (n, r) = check_shape(spec, limits)?;
         let values = parameter_values(&spec.parameters, overrides)?;
@@ -165,11 +240,13 @@ impl Compiled {
         let passenger_scope = Scope {
             spec,
             values: &values,
+            parameters,
             passenger: true,
             refusal: "U may depend on the passenger coordinates and parameters only \
                       (V = U(x) + V_d(ζ), docs/model.md §1)",
         };
-        let driver_scope = |refusal| Scope { spec, values: &values, passenger: false, refusal };
+        let driver_scope =
+            |refusal| Scope { spec, values: &values, parameters, passenger: false, refusal };
 
         // The passenger: U, ∇U, ∇²U.
         let mut pg = Graph::new();
@@ -199,7 +276,8 @@ impl Compiled {
                 a.push(formula(&mut dg, format!("system.constraints[{i}][{j}]"), text, &a_scope)?);
             }
         }
-        Self::from_graphs(ClassGraphs { n, r, values, passenger: pg, u, driver: dg, vd, a }, limits)
+        let graphs = ClassGraphs { n, r, values, parameters, passenger: pg, u, driver: dg, vd, a };
+        Self::from_graphs(graphs, limits)
     }
 
     /// Differentiates and compiles a system of the class given as graphs: U in `passenger`
@@ -211,7 +289,8 @@ impl Compiled {
         graphs: ClassGraphs,
         limits: &CustomLimits,
     ) -> Result<Self, InputError> {
-        let ClassGraphs { n, r, values, passenger: mut pg, u, driver: mut dg, vd, a } = graphs;
+        let ClassGraphs { n, r, values, parameters, passenger: mut pg, u, driver: mut dg, vd, a } =
+            graphs;
         let lim = &limits.formula;
         let too_large = || InputError::Formula {
             field: "system".into(),
@@ -243,9 +322,23 @@ impl Compiled {
             return Err(too_large());
         }
 
-        let quadratic_passenger = hessian.iter().all(|&h| pg.constant(h).is_some());
+        // Where the parameters are inputs, U is quadratic where its second derivatives read
+        // none of the coordinates; its numbers are then taken per binding, from `at_zero`.
+        let quadratic_passenger = match parameters {
+            Parameters::Folded => hessian.iter().all(|&h| pg.constant(h).is_some()),
+            Parameters::Inputs => hessian.iter().all(|&h| !reads_coordinates(&pg, h)),
+        };
         let free_passenger = gradient.iter().all(|&g| pg.constant(g) == Some(0.0));
-        let passenger = if quadratic_passenger {
+        let at_zero = (quadratic_passenger && parameters == Parameters::Inputs).then(|| {
+            let outputs: Vec<Id> = std::iter::once(u)
+                .chain(gradient.iter().copied())
+                .chain(hessian.iter().copied())
+                .collect();
+            Function::new(Tape::compile(&pg, &outputs, n), false)
+        });
+        let passenger = if let Some(code) = &at_zero {
+            quadratic_at_zero(&code.bind(&Arc::from(values.as_slice())), n)
+        } else if quadratic_passenger {
             let zero = vec![0.0; n];
             let mut h = vec![0.0; n * n];
             let mut k = 0;
@@ -269,10 +362,7 @@ impl Compiled {
                 hessian: Function::new(Tape::compile(&pg, &hessian, n), native),
             }))
         };
-        let latitude = n == 2
-            && r == 1
-            && matches!(&passenger, Passenger::Quadratic { b, h, .. }
-                if b.iter().all(|&x| x == 0.0) && h == &[1.0, 0.0, 0.0, 1.0]);
+        let latitude = latitude_holds(n, r, &passenger);
         let zeta = dg.var(0);
         let trig = [(dg.call(Func::Sin, zeta), 1), (dg.call(Func::Cos, zeta), 2)];
         let on_zeta = dependence(&dg);
@@ -294,7 +384,9 @@ impl Compiled {
             n,
             r,
             values,
+            parameters,
             passenger,
+            at_zero,
             driver: Function::new(driver, limits.native),
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
             quadratic_passenger,
@@ -304,6 +396,43 @@ impl Compiled {
             latitude,
             angle,
         })
+    }
+}
+
+impl Compiled {
+    /// The same compilation bound to the parameter values `values` (its parameters are
+    /// [inputs](Parameters::Inputs)).
+    pub fn bind(&self, values: &[f64]) -> Self {
+        debug_assert_eq!(self.parameters, Parameters::Inputs);
+        let params: Arc<[f64]> = values.into();
+        let passenger = match (&self.passenger, &self.at_zero) {
+            (Passenger::General(g), _) => Passenger::General(Box::new(GeneralPassenger {
+                u: g.u.bind(&params),
+                gradient: g.gradient.bind(&params),
+                hessian: g.hessian.bind(&params),
+            })),
+            (Passenger::Quadratic { .. }, Some(code)) => {
+                quadratic_at_zero(&code.bind(&params), self.n)
+            }
+            (quadratic, None) => quadratic.clone(),
+        };
+        let latitude = latitude_holds(self.n, self.r, &passenger);
+        Self {
+            n: self.n,
+            r: self.r,
+            values: values.to_vec(),
+            parameters: self.parameters,
+            passenger,
+            at_zero: self.at_zero.clone(),
+            driver: self.driver.bind(&params),
+            id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
+            quadratic_passenger: self.quadratic_passenger,
+            quadratic_driver: self.quadratic_driver,
+            free_passenger: self.free_passenger,
+            periodic: self.periodic,
+            latitude,
+            angle: self.angle,
+        }
     }
 }
 

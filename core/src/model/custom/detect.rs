@@ -6,11 +6,11 @@
 //! V_d is V with the passengers fixed (less the constant they share), A's passenger columns
 //! are A's with ζ as the driver's variable.
 
-use super::compile::{ClassGraphs, Compiled};
+use super::compile::{ClassGraphs, Compiled, Parameters, point};
 use super::spec::{CustomLimits, MAX_PASSENGERS};
 use crate::InputError;
 use crate::formula::derive::Derivative;
-use crate::formula::{Graph, Id};
+use crate::formula::{Graph, Id, PARAM_VAR};
 use std::collections::HashMap;
 
 /// The driver found: its index among the user's coordinates.
@@ -47,7 +47,9 @@ pub(crate) fn find(
             MAX_PASSENGERS + 1
         ));
     }
-    let mut in_a: Vec<u16> = a.iter().flat_map(|&e| g.variables(e)).collect();
+    // The coordinates A reads (parameters given as inputs are variables too, not coordinates).
+    let mut in_a: Vec<u16> =
+        a.iter().flat_map(|&e| g.variables(e)).filter(|&k| k < PARAM_VAR).collect();
     in_a.sort_unstable();
     in_a.dedup();
     if in_a.len() > 1 {
@@ -96,35 +98,57 @@ pub(crate) fn class_compilation(
     a: &[Id],
     (n, m): (usize, usize),
     driver: usize,
-    values: &[f64],
+    (values, parameters): (&[f64], Parameters),
     limits: &CustomLimits,
 ) -> Result<Compiled, InputError> {
-    // A point where V is finite, at which the other part is held fixed.
+    // A point where V is finite (at these parameter values), at which the other part is
+    // held fixed.
     let at = [0.0, 1.0, 0.5, 2.0, -1.0]
         .into_iter()
-        .find(|&c| g.eval(v, &vec![c; n]).is_finite())
+        .find(|&c| g.eval(v, &point(&vec![c; n], values)).is_finite())
         .ok_or_else(|| InputError::CustomSystem {
-        field: "system.potential".into(),
-        message: "V is not finite at any of q = 0, 1, 0.5, 2, −1 (every coordinate), where \
+            field: "system.potential".into(),
+            message: "V is not finite at any of q = 0, 1, 0.5, 2, −1 (every coordinate), where \
                       nhlab splits it into the passengers' and the driver's parts"
-            .into(),
-    })?;
+                .into(),
+        })?;
     let passenger_index = |j: u16| (j as usize) - usize::from(j as usize > driver);
     let mut passenger = Graph::new();
     let u = passenger.import(
         g,
         v,
         &mut |pg: &mut Graph, j| {
-            if j as usize == driver { pg.num(at) } else { pg.var(passenger_index(j) as u16) }
+            if j >= PARAM_VAR {
+                pg.var(j)
+            } else if j as usize == driver {
+                pg.num(at)
+            } else {
+                pg.var(passenger_index(j) as u16)
+            }
         },
         &mut HashMap::new(),
     );
     let mut dg = Graph::new();
     let mut done = HashMap::new();
-    let mut to_driver =
-        |dg: &mut Graph, j: u16| if j as usize == driver { dg.var(0) } else { dg.num(at) };
+    let mut to_driver = |dg: &mut Graph, j: u16| {
+        if j >= PARAM_VAR {
+            dg.var(j)
+        } else if j as usize == driver {
+            dg.var(0)
+        } else {
+            dg.num(at)
+        }
+    };
     let v_driver = dg.import(g, v, &mut to_driver, &mut done);
-    let shared = dg.num(g.eval(v, &vec![at; n]));
+    // V with every coordinate held: a number, or a formula in the parameters given as inputs.
+    let shared = match parameters {
+        Parameters::Folded => dg.num(g.eval(v, &point(&vec![at; n], values))),
+        Parameters::Inputs => {
+            let mut held =
+                |dg: &mut Graph, j: u16| if j >= PARAM_VAR { dg.var(j) } else { dg.num(at) };
+            dg.import(g, v, &mut held, &mut HashMap::new())
+        }
+    };
     let vd = dg.sub(v_driver, shared);
     let mut entries = Vec::with_capacity(m * (n - 1));
     for r in 0..m {
@@ -136,6 +160,7 @@ pub(crate) fn class_compilation(
         n: n - 1,
         r: m,
         values: values.to_vec(),
+        parameters,
         passenger,
         u,
         driver: dg,

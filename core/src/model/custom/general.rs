@@ -4,8 +4,12 @@
 //! ([`detect`](super::detect)), and then either the class's compilation (with the coordinates
 //! reordered, ζ last) or the general one ([`GeneralCompiled`]: V, ∇V, ∇²V, A and ∂A/∂q as
 //! tapes). The invariants are compiled in either case ([`Invariants`]).
+//!
+//! Where the parameters are inputs of the code ([`Parameters::Inputs`]), M is still numbers
+//! per set of values ([`mass_matrix`], evaluated and checked at each binding), and the class
+//! is looked for only where M is the identity whatever the values.
 
-use super::compile::{Compiled, is_identifier, parameter_values};
+use super::compile::{Compiled, Parameters, is_identifier, parameter_values};
 use super::detect::{self, ClassFound};
 use super::general_spec::{GeneralSpec, MAX_COORDINATES, MassEntry, MassSpec};
 use super::invariants::Invariants;
@@ -19,7 +23,7 @@ use nalgebra::DMatrix;
 use std::sync::Arc;
 
 /// A system of the general class outside the paper's class (or kept out of it), compiled.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct GeneralCompiled {
     /// Coordinates N.
     pub n: usize,
@@ -61,6 +65,8 @@ pub struct Formulated {
     pub m: usize,
     /// The parameters' values, in the spec's order.
     pub values: Vec<f64>,
+    /// How the parameters enter the code.
+    pub parameters: Parameters,
     /// M, N×N, in the user's order.
     pub mass: DMatrix<f64>,
     /// What it runs as.
@@ -81,6 +87,7 @@ fn bad(field: impl Into<String>, message: impl Into<String>) -> InputError {
 struct Scope<'a> {
     spec: &'a GeneralSpec,
     values: &'a [f64],
+    parameters: Parameters,
     /// Whether the coordinates may be named (not in M).
     coordinates: bool,
 }
@@ -88,7 +95,7 @@ struct Scope<'a> {
 impl Names for Scope<'_> {
     fn resolve(&self, name: &str) -> Option<Name> {
         if let Some(i) = self.spec.parameters.iter().position(|(p, _)| p == name) {
-            return Some(Name::Value(self.values[i]));
+            return Some(self.parameters.name(i, self.values));
         }
         if let Some(i) = self.spec.coordinates.iter().position(|c| c == name) {
             return Some(if self.coordinates {
@@ -129,6 +136,7 @@ impl Formulated {
         spec: &GeneralSpec,
         overrides: &[(String, f64)],
         limits: &CustomLimits,
+        parameters: Parameters,
     ) -> Result<Self, InputError> {
         let (n, m) = check_shape(spec, limits)?;
         let values = parameter_values(&spec.parameters, overrides)?;
@@ -137,7 +145,7 @@ impl Formulated {
             parse(g, text, scope, lim).map_err(|error| InputError::Formula { field, error })
         };
         let mass = mass_matrix(spec, &values, limits)?;
-        let scope = Scope { spec, values: &values, coordinates: true };
+        let scope = Scope { spec, values: &values, parameters, coordinates: true };
         let mut g = Graph::new();
         let v = formula(&mut g, "system.potential".into(), &spec.potential, &scope)?;
         let mut a = Vec::with_capacity(m * n);
@@ -146,7 +154,8 @@ impl Formulated {
                 a.push(formula(&mut g, format!("system.constraints[{i}][{j}]"), text, &scope)?);
             }
         }
-        let unit_mass = mass == DMatrix::identity(n, n);
+        let unit_mass = mass == DMatrix::identity(n, n)
+            && (parameters == Parameters::Folded || !mass_reads_parameters(spec, limits)?);
         let found = if spec.detect_class {
             detect::find(&mut g, v, &a, &spec.coordinates, m, unit_mass)
         } else {
@@ -154,8 +163,15 @@ impl Formulated {
         };
         let (structure, not_class, order) = match found {
             Ok(ClassFound { driver }) => {
-                let compiled =
-                    detect::class_compilation(&g, v, &a, (n, m), driver, &values, limits)?;
+                let compiled = detect::class_compilation(
+                    &g,
+                    v,
+                    &a,
+                    (n, m),
+                    driver,
+                    (&values, parameters),
+                    limits,
+                )?;
                 let order: Vec<usize> = (0..n).filter(|&i| i != driver).chain([driver]).collect();
                 (Structure::Class { compiled: Arc::new(compiled), driver }, None, order)
             }
@@ -167,28 +183,58 @@ impl Formulated {
         let invariants = if spec.invariants.is_empty() {
             None
         } else {
-            Some(Arc::new(Invariants::compile(spec, &values, &order, limits)?))
+            Some(Arc::new(Invariants::compile(spec, (&values, parameters), &order, limits)?))
         };
         // M row by row in the user's order (nalgebra stores by columns; M is symmetric).
         let mass = DMatrix::from_row_slice(n, n, mass.as_slice());
-        Ok(Self { n, m, values, mass, structure, not_class, invariants, order })
+        Ok(Self { n, m, values, parameters, mass, structure, not_class, invariants, order })
     }
+}
 
-    /// The integrals it has: H, E and h where it is in the paper's class (the latitude where
-    /// the class's definition holds), the constraint, its invariants.
-    pub fn integrals(&self) -> Vec<Integral> {
-        let mut out = vec![Integral::Energy];
-        if let Structure::Class { compiled, .. } = &self.structure {
-            out.extend([Integral::PassengerEnergy, Integral::DriverEnergy]);
-            if compiled.latitude {
-                out.push(Integral::Latitude);
+impl GeneralCompiled {
+    /// The same code bound to other values of its parameters (which are
+    /// [inputs](Parameters::Inputs)), M evaluated from `spec` and checked at them.
+    pub fn bind(
+        &self,
+        spec: &GeneralSpec,
+        values: &[f64],
+        limits: &CustomLimits,
+    ) -> Result<Self, InputError> {
+        let mass = mass_matrix(spec, values, limits)?;
+        let params: Arc<[f64]> = values.into();
+        Ok(Self {
+            n: self.n,
+            m: self.m,
+            mass: mass.as_slice().to_vec(),
+            potential: self.potential.bind(&params),
+            forces: self.forces.bind(&params),
+            terms: self.terms.bind(&params),
+            quadratic: self.quadratic,
+        })
+    }
+}
+
+/// Whether an entry of M is a formula that reads a parameter (parse errors are M's, as
+/// [`mass_matrix`] reports them).
+fn mass_reads_parameters(spec: &GeneralSpec, limits: &CustomLimits) -> Result<bool, InputError> {
+    let values = vec![0.0; spec.parameters.len()];
+    let scope = Scope { spec, values: &values, parameters: Parameters::Inputs, coordinates: false };
+    let entries: Vec<&MassEntry> = match &spec.mass {
+        MassSpec::Identity => Vec::new(),
+        MassSpec::Diagonal(d) => d.iter().collect(),
+        MassSpec::Full(rows) => rows.iter().flatten().collect(),
+    };
+    for e in entries {
+        if let MassEntry::Formula(text) = e {
+            let mut g = Graph::new();
+            let id = parse(&mut g, text, &scope, &limits.formula)
+                .map_err(|error| InputError::Formula { field: "system.mass".into(), error })?;
+            if g.constant(id).is_none() {
+                return Ok(true);
             }
         }
-        out.push(Integral::Constraint);
-        let count = self.invariants.as_ref().map_or(0, |i| i.names().len());
-        out.extend((0..count).map(|k| Integral::Invariant(k as u8)));
-        out
     }
+    Ok(false)
 }
 
 /// M from the spec, each entry a number or a formula in the parameters, checked symmetric
@@ -199,7 +245,7 @@ fn mass_matrix(
     limits: &CustomLimits,
 ) -> Result<DMatrix<f64>, InputError> {
     let n = spec.coordinates.len();
-    let scope = Scope { spec, values, coordinates: false };
+    let scope = Scope { spec, values, parameters: Parameters::Folded, coordinates: false };
     let entry = |e: &MassEntry, field: String| -> Result<f64, InputError> {
         let x = match e {
             MassEntry::Number(x) => *x,

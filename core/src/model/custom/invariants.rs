@@ -3,15 +3,17 @@
 //! `(q, q̇)`, whose coordinates may be reordered from the user's (the paper's class puts the
 //! driver last) or followed by padding (sizes compiled once).
 
+use super::compile::Parameters;
 use super::general_spec::GeneralSpec;
 use super::spec::CustomLimits;
 use crate::InputError;
 use crate::formula::parse::{Name, Names, parse};
 use crate::formula::{Function, Graph, Tape};
 use crate::model::integral::MAX_INVARIANTS;
+use std::sync::Arc;
 
 /// See the module's doc.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Invariants {
     names: Vec<String>,
     function: Function,
@@ -23,6 +25,7 @@ pub struct Invariants {
 struct Scope<'a> {
     spec: &'a GeneralSpec,
     values: &'a [f64],
+    parameters: Parameters,
     /// `internal[j]`: where the run holds the user's coordinate j.
     internal: &'a [usize],
 }
@@ -31,7 +34,7 @@ impl Names for Scope<'_> {
     fn resolve(&self, name: &str) -> Option<Name> {
         let n = self.internal.len();
         if let Some(i) = self.spec.parameters.iter().position(|(p, _)| p == name) {
-            return Some(Name::Value(self.values[i]));
+            return Some(self.parameters.name(i, self.values));
         }
         if let Some(j) = self.spec.coordinates.iter().position(|c| c == name) {
             return Some(Name::Var(self.internal[j] as u16));
@@ -49,11 +52,11 @@ impl Names for Scope<'_> {
 }
 
 impl Invariants {
-    /// Compiles the invariants of `spec` with the parameters at `values`, for a run that holds
-    /// the user's coordinate `order[i]` at i (field `system.invariants.NAME`).
+    /// Compiles the invariants of `spec` with the parameters at `values` (or as inputs), for a
+    /// run that holds the user's coordinate `order[i]` at i (field `system.invariants.NAME`).
     pub fn compile(
         spec: &GeneralSpec,
-        values: &[f64],
+        (values, parameters): (&[f64], Parameters),
         order: &[usize],
         limits: &CustomLimits,
     ) -> Result<Self, InputError> {
@@ -63,7 +66,7 @@ impl Invariants {
         for (i, &j) in order.iter().enumerate() {
             internal[j] = i;
         }
-        let scope = Scope { spec, values, internal: &internal };
+        let scope = Scope { spec, values, parameters, internal: &internal };
         let mut g = Graph::new();
         let mut outputs = Vec::with_capacity(spec.invariants.len());
         for (name, text) in &spec.invariants {
@@ -77,6 +80,11 @@ impl Invariants {
             function: Function::new(Tape::compile(&g, &outputs, 2 * n), limits.native),
             n,
         })
+    }
+
+    /// The same code bound to the parameter values `params` (inputs of it).
+    pub fn bind(&self, params: &Arc<[f64]>) -> Self {
+        Self { function: self.function.bind(params), ..self.clone() }
     }
 
     /// The invariants' names, in order.
