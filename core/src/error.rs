@@ -274,6 +274,9 @@ pub enum StepFailure {
     /// before it starts; this is the step's own guard).
     #[error("the method does not apply to this system")]
     NotApplicable,
+    /// The caller asked a measurement of steps to stop (its client went away).
+    #[error("stopped: the measurement was cancelled")]
+    Stopped,
 }
 
 /// Why a run ended before t_end.
@@ -296,6 +299,20 @@ pub enum RunError {
         step: u64,
         /// Time reached.
         t: f64,
+    },
+    /// The run took longer than its time limit ([`RunConfig::time_limit`](crate::RunConfig)).
+    #[error(
+        "time limit: the run took longer than {} s of wall-clock time and was stopped at step \
+         {step} (t = {t:.6}); shorten t_end or lengthen the step",
+        Short(*limit)
+    )]
+    TimeLimit {
+        /// Steps completed.
+        step: u64,
+        /// Time reached.
+        t: f64,
+        /// The limit, in seconds.
+        limit: f64,
     },
 }
 

@@ -1,7 +1,8 @@
 //! What a run measures: the integrals' error series (the integrals are the model's,
 //! `model::integral`) and the hidden latitude ([`latitude`]), downsampled into buckets
 //! ([`bucket`]) and classified ([`classify`]); the driver that runs a method and streams the
-//! series to an observer ([`simulate`]), taking whole turns off an angle as it goes; the
+//! series to an observer ([`simulate`]), taking whole turns off an angle as it goes, and
+//! looking at the clock as often as its steps' cost allows ([`pace`]); the
 //! measured properties of a method ([`properties`]) and the reference solution
 //! ([`reference`]). Work–precision, which measures scenes, is the catalogue's.
 
@@ -9,6 +10,7 @@ pub mod bucket;
 pub mod classify;
 pub mod gap;
 pub mod latitude;
+pub mod pace;
 pub mod properties;
 pub mod reference;
 pub mod simulate;

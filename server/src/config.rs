@@ -50,6 +50,13 @@ pub struct Config {
     /// Most steps one sweep may take in all (cells × methods × steps per run, sub-steps of a
     /// composition counted).
     pub max_sweep_steps: u64,
+    /// Longest one run may compute, in seconds of wall-clock time: past it, the run ends as
+    /// `failed` ("time limit"), like a run that diverges.
+    pub max_run_seconds: f64,
+    /// Most CPU time one request's runs may take together, in seconds, as estimated before
+    /// any work (steps × the method's cost per step on the system,
+    /// [`nhlab_core::catalogue::cost`]); more is a 422 with the estimate.
+    pub max_request_seconds: f64,
 }
 
 impl Default for Config {
@@ -71,6 +78,8 @@ impl Default for Config {
             formulas: CustomLimits::default(),
             max_sweep_cells: 10_000,
             max_sweep_steps: 2_000_000_000,
+            max_run_seconds: 300.0,
+            max_request_seconds: 300.0,
         }
     }
 }

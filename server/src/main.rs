@@ -106,6 +106,18 @@ struct Args {
     /// Most steps one sweep takes in all (cells × methods × steps per run).
     #[arg(long, env = "NHLAB_MAX_SWEEP_STEPS", default_value_t = defaults().max_sweep_steps)]
     max_sweep_steps: u64,
+    /// Seconds (wall clock) one run may compute; a run past it ends as failed with a "time
+    /// limit" error, where it stopped (like a run that diverges).
+    #[arg(long, env = "NHLAB_MAX_RUN_SECONDS", default_value_t = defaults().max_run_seconds,
+          value_parser = seconds)]
+    max_run_seconds: f64,
+    /// Seconds of CPU one request's runs may take together, estimated before any work (steps
+    /// × the method's cost per step on the system: measured for the built-ins, from the
+    /// compiled formulas' instructions for a system given as formulas); more: 422 with the
+    /// estimate.
+    #[arg(long, env = "NHLAB_MAX_REQUEST_SECONDS",
+          default_value_t = defaults().max_request_seconds, value_parser = seconds)]
+    max_request_seconds: f64,
 }
 
 #[derive(Debug, clap::Subcommand)]
@@ -183,6 +195,13 @@ fn timeout(s: &str) -> Result<f64, String> {
     }
 }
 
+fn seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x > 0.0 && x <= 1e7 => Ok(x),
+        _ => Err("seconds, more than 0 and at most 10000000".into()),
+    }
+}
+
 fn connections(s: &str) -> Result<usize, String> {
     match s.parse::<usize>() {
         Ok(n) if (1..=1_000_000).contains(&n) => Ok(n),
@@ -205,6 +224,8 @@ impl Args {
             body_timeout: Duration::from_secs_f64(self.body_timeout),
             max_sweep_cells: self.max_sweep_cells,
             max_sweep_steps: self.max_sweep_steps,
+            max_run_seconds: self.max_run_seconds,
+            max_request_seconds: self.max_request_seconds,
             formulas: nhlab_core::CustomLimits {
                 formula: nhlab_core::formula::Limits {
                     max_chars: self.max_formula_chars,

@@ -113,7 +113,7 @@ pub struct SystemCode {
     pub(crate) constraint: fn(Start<'_>) -> Constraint,
     pub(crate) latitude: fn(Start<'_>) -> Result<LatitudeAxis, InputError>,
     pub(crate) run: fn(&RunInput<'_>, &Method, &RunConfig, &mut dyn Observer) -> RunOutcome,
-    pub(crate) properties: fn(Start<'_>, f64, &Method) -> Result<Properties, StepFailure>,
+    pub(crate) properties: PropertiesFn,
     pub(crate) reference: ReferenceFn,
 }
 
@@ -123,6 +123,10 @@ pub struct SystemEntry {
     /// Its code; `None` for a built-in given as formulas, compiled per scene.
     pub native: Option<SystemCode>,
 }
+
+/// The property measurement of a system: start, step, method, stop flag.
+type PropertiesFn =
+    fn(Start<'_>, f64, &Method, &dyn Fn() -> bool) -> Result<Properties, StepFailure>;
 
 /// The reference solve of a system: start, t_end, tolerance, stop flag.
 type ReferenceFn =
@@ -268,12 +272,12 @@ impl SystemCode {
                 let r = reference::reference_until(&General(&sys), &q, &v, t_end, tol, stop)?;
                 Ok(reference_state(r))
             },
-            properties: |start, step, method| {
+            properties: |start, step, method, stop| {
                 let sys = B::build(&start);
                 let (q, v) = vectors::<N>(start);
                 let start =
                     State::with_continuous_multiplier(&sys, q, v).ok_or(StepFailure::Singular)?;
-                properties::measure(&sys, method, start, step)
+                properties::measure(&sys, method, start, step, stop)
             },
             run: |input, method, cfg, observer| {
                 let sys = B::build(&input.start);
@@ -316,11 +320,11 @@ impl SystemCode {
                 let sys = B::build(&start);
                 Ok(reference_state(reference::reference_until(&sys, &q, &v, t_end, tol, stop)?))
             },
-            properties: |start, step, method| {
+            properties: |start, step, method, stop| {
                 let sys = B::build(&start);
                 let (q, v) = vectors::<N>(start);
                 let start = State::general_start(&sys, q, v).ok_or(StepFailure::Singular)?;
-                properties::measure_general(&sys, method, start, step)
+                properties::measure_general(&sys, method, start, step, stop)
             },
             run: |input, method, cfg, observer| {
                 let sys = B::build(&input.start);

@@ -508,7 +508,17 @@ impl Scene {
         &self,
         method: &Method,
     ) -> Result<crate::measure::properties::Properties, crate::StepFailure> {
-        (self.system.code().properties)(self.start(), self.step, method)
+        self.properties_until(method, &|| false)
+    }
+
+    /// [`properties`](Self::properties), ended with [`StepFailure::Stopped`](crate::StepFailure)
+    /// once `stop()` turns true (looked at before every step).
+    pub fn properties_until(
+        &self,
+        method: &Method,
+        stop: &dyn Fn() -> bool,
+    ) -> Result<crate::measure::properties::Properties, crate::StepFailure> {
+        (self.system.code().properties)(self.start(), self.step, method, stop)
     }
 
     /// The Dop853 reference solution at t_end (see [`crate::measure::reference`]).
@@ -519,8 +529,8 @@ impl Scene {
         self.reference_until(tol, &|| false)
     }
 
-    /// [`reference`](Self::reference), cancelled when `stop()` turns true (looked at every
-    /// [`STOP_EVERY`](crate::measure::reference::STOP_EVERY) steps).
+    /// [`reference`](Self::reference), cancelled when `stop()` turns true (looked at about
+    /// every [`AIM`](crate::measure::pace::AIM)).
     pub fn reference_until(
         &self,
         tol: f64,

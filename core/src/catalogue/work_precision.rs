@@ -2,16 +2,16 @@
 //! what a run costs (the minimum wall time of a few repetitions, so a short run is not timed by
 //! noise) and what it buys — the final error in (q, q̇) against the Dop853 reference at t_end, and
 //! the largest error of each integral. A caller that must be able to stop (a server whose client
-//! went away) passes a `stop` flag to [`reference_until`] and [`measure_until`], looked at every
-//! few thousand steps (every [`STOP_EVERY`](crate::measure::reference::STOP_EVERY) steps of
-//! the reference's) and between repetitions.
+//! went away) passes a `stop` flag to [`reference_until`] and [`measure_until`], looked at
+//! about every [`AIM`](crate::measure::pace::AIM) of a solve or a run (paced by the clock,
+//! whatever a step costs) and between repetitions.
 
 use crate::catalogue::registry::ReferenceState;
 use crate::measure::reference::{ReferenceError, TOL};
-use crate::{Bucket, Integral, Method, Observer, PreparedScene, RunConfig};
+use crate::{Bucket, Integral, Method, Observer, PreparedScene, RunConfig, RunError, RunOutcome};
 use std::collections::BTreeMap;
 use std::ops::ControlFlow;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// One method at one step.
 #[derive(Debug, Clone, PartialEq)]
@@ -70,7 +70,7 @@ pub fn reference(scene: &PreparedScene) -> Result<ReferenceSummary, ReferenceErr
 }
 
 /// [`reference`], ended with [`ReferenceError::Cancelled`] when `stop()` turns true (looked
-/// at every [`STOP_EVERY`](crate::measure::reference::STOP_EVERY) Dop853 steps).
+/// at about every [`AIM`](crate::measure::pace::AIM)).
 pub fn reference_until(
     scene: &PreparedScene,
     stop: &dyn Fn() -> bool,
@@ -107,15 +107,34 @@ pub fn measure_until(
     reps: u32,
     stop: &dyn Fn() -> bool,
 ) -> Row {
+    measure_within(scene, reference, method, step, reps, stop, None)
+}
+
+/// [`measure_until`], each run ending as failed ([`RunError::TimeLimit`]) past
+/// `time_limit`; a repetition that failed so is the last.
+pub fn measure_within(
+    scene: &PreparedScene,
+    reference: &ReferenceState,
+    method: &Method,
+    step: f64,
+    reps: u32,
+    stop: &dyn Fn() -> bool,
+    time_limit: Option<Duration>,
+) -> Row {
     let mut scene = scene.clone();
     let t_end = scene.scene.t_end;
     let step = t_end / (t_end / step).round().max(1.0);
     scene.scene.step = step;
-    let cfg = RunConfig { points: 1, ..RunConfig::default() };
+    // Paced: the stop flag is looked at every few milliseconds at most, whatever a step
+    // costs.
+    let cfg = RunConfig { points: 1, paced: true, time_limit, ..RunConfig::default() };
     let mut best = f64::INFINITY;
-    let mut row = None;
+    let mut row: Option<(RunOutcome, Watch<'_>)> = None;
     for rep in 0..reps.max(1) {
-        if rep > 0 && stop() {
+        let timed_out = row
+            .as_ref()
+            .is_some_and(|(out, _)| matches!(out.error, Some(RunError::TimeLimit { .. })));
+        if rep > 0 && (timed_out || stop()) {
             break;
         }
         let mut watch = Watch { max: BTreeMap::new(), end: None, stop };

@@ -21,6 +21,9 @@
 //!      `|A(q₁) q̇₁|`, or at its midpoint, `|A(q̄)(q̇₀ + q̇₁)/2|` (the DD family), to `1e-12`
 //!      (this catches RK4, which imposes neither and drifts off); a composed method at every
 //!      sub-step, as its base method does.
+//!
+//! A caller that must be able to stop (a server whose client went away) passes a `stop` flag,
+//! looked at before every step: the measurement then ends with [`StepFailure::Stopped`].
 
 use crate::methods::GeneralMemory;
 use crate::model::mechanical::Mechanical;
@@ -67,15 +70,14 @@ fn scale<const N: usize, const R: usize>(st: &State<N, R>) -> f64 {
 /// A state with the method's memory of how it got there (empty for a fresh start).
 type Point<const N: usize, const R: usize> = (State<N, R>, MethodMemory<N, R>);
 
-fn run<S: System<N, R>, const N: usize, const R: usize>(
-    sys: &S,
-    m: &Method,
+fn run<const N: usize, const R: usize>(
+    step: &dyn Fn(&mut State<N, R>, &mut MethodMemory<N, R>, f64) -> Result<(), StepFailure>,
     (mut st, mut memory): Point<N, R>,
     h: f64,
     steps: usize,
 ) -> Result<Point<N, R>, StepFailure> {
     for _ in 0..steps {
-        m.step(sys, &mut st, &mut memory, h)?;
+        step(&mut st, &mut memory, h)?;
     }
     Ok((st, memory))
 }
@@ -150,22 +152,29 @@ fn moved<S: System<N, R>, const N: usize, const R: usize>(
     State::with_continuous_multiplier(sys, st.q + dx, v)
 }
 
-/// Measures both properties of `m` on `sys` from `start` with step `h`.
+/// Measures both properties of `m` on `sys` from `start` with step `h`, ended with
+/// [`StepFailure::Stopped`] once `stop()` turns true (looked at before every step).
 pub fn measure<S: System<N, R>, const N: usize, const R: usize>(
     sys: &S,
     m: &Method,
     start: State<N, R>,
     h: f64,
+    stop: &dyn Fn() -> bool,
 ) -> Result<Properties, StepFailure> {
     let fresh = |st: State<N, R>| (st, m.memory());
-    let step = |st: &mut State<N, R>, mem: &mut MethodMemory<N, R>, h| m.step(sys, st, mem, h);
+    let step = |st: &mut State<N, R>, mem: &mut MethodMemory<N, R>, h| {
+        if stop() {
+            return Err(StepFailure::Stopped);
+        }
+        m.step(sys, st, mem, h)
+    };
     let (reversibility_defect, symmetry_defect) = round_trips(&step, fresh(start), h)?;
 
     // 1. Driver blind to the passenger.
     let mut dx = Vector::<N>::from_fn(|i, _| 0.3 - 0.2 * i as f64);
     dx[N - 1] = 0.0;
     let other = moved(sys, &start, &dx, 1.5).ok_or(StepFailure::Singular)?;
-    let (a, b) = (run(sys, m, fresh(start), h, STEPS)?.0, run(sys, m, fresh(other), h, STEPS)?.0);
+    let (a, b) = (run(&step, fresh(start), h, STEPS)?.0, run(&step, fresh(other), h, STEPS)?.0);
     let driver_coupling =
         (a.q[N - 1] - b.q[N - 1]).abs().max((a.v[N - 1] - b.v[N - 1]).abs()) / scale(&a);
 
@@ -183,7 +192,7 @@ pub fn measure<S: System<N, R>, const N: usize, const R: usize>(
         let mut e = Vector::<N>::zeros();
         e[i] = 0.7;
         let shifted = moved(sys, &start, &e, 1.0).ok_or(StepFailure::Singular)?;
-        let b = run(sys, m, fresh(shifted), h, STEPS)?.0;
+        let b = run(&step, fresh(shifted), h, STEPS)?.0;
         let k = |st: &State<N, R>| sys.kernel(st.q[N - 1]).dot(&st.v);
         let mut d = (k(&a) - k(&b)).abs();
         d = d.max((a.q[N - 1] - b.q[N - 1]).abs()).max((a.v[N - 1] - b.v[N - 1]).abs());
@@ -196,8 +205,12 @@ pub fn measure<S: System<N, R>, const N: usize, const R: usize>(
     // 3. A discrete constraint at every step; a composed method imposes its base method's at
     // every sub-step, so it is checked there.
     let base = Method { composition: None, ..*m };
-    let base_step =
-        |st: &mut State<N, R>, mem: &mut MethodMemory<N, R>, h| base.step(sys, st, mem, h);
+    let base_step = |st: &mut State<N, R>, mem: &mut MethodMemory<N, R>, h| {
+        if stop() {
+            return Err(StepFailure::Stopped);
+        }
+        base.step(sys, st, mem, h)
+    };
     let defects = |prev: &State<N, R>, st: &State<N, R>| {
         let mid_zeta = 0.5 * (prev.q[N - 1] + st.q[N - 1]);
         let mid = (sys.constraint(mid_zeta) * (prev.v + st.v) * 0.5).norm();
@@ -221,20 +234,30 @@ pub fn measure<S: System<N, R>, const N: usize, const R: usize>(
 }
 
 /// Measures reversibility, symmetry and the discrete constraint (check 3) of `m`'s general
-/// step on `sys` from `start` with step `h`; the fibration is not defined there.
+/// step on `sys` from `start` with step `h`; the fibration is not defined there. Ended with
+/// [`StepFailure::Stopped`] once `stop()` turns true (looked at before every step).
 pub fn measure_general<S: Mechanical<N, R>, const N: usize, const R: usize>(
     sys: &S,
     m: &Method,
     start: State<N, R>,
     h: f64,
+    stop: &dyn Fn() -> bool,
 ) -> Result<Properties, StepFailure> {
-    let step =
-        |st: &mut State<N, R>, mem: &mut GeneralMemory<N, R>, h| m.step_general(sys, st, mem, h);
+    let step = |st: &mut State<N, R>, mem: &mut GeneralMemory<N, R>, h| {
+        if stop() {
+            return Err(StepFailure::Stopped);
+        }
+        m.step_general(sys, st, mem, h)
+    };
     let (reversibility_defect, symmetry_defect) =
         round_trips(&step, (start, GeneralMemory::empty()), h)?;
     let base = Method { composition: None, ..*m };
-    let base_step =
-        |st: &mut State<N, R>, mem: &mut GeneralMemory<N, R>, h| base.step_general(sys, st, mem, h);
+    let base_step = |st: &mut State<N, R>, mem: &mut GeneralMemory<N, R>, h| {
+        if stop() {
+            return Err(StepFailure::Stopped);
+        }
+        base.step_general(sys, st, mem, h)
+    };
     let defects = |prev: &State<N, R>, st: &State<N, R>| {
         let mid = (sys.constraint(&(0.5 * (prev.q + st.q))) * (prev.v + st.v) * 0.5).norm();
         (sys.constraint_residual(&st.q, &st.v), mid)

@@ -19,10 +19,15 @@
 //! a point at the end of the interval), so each solver runs at most [`CHUNK`] steps: `solout`
 //! stops it there and a new one continues from the last state with the last step size. A caller
 //! that must be able to stop (a server whose client went away) passes a `stop` flag to
-//! [`reference_until`], looked at in `solout` every [`STOP_EVERY`] accepted steps.
+//! [`reference_until`], looked at in `solout` about every [`AIM`] (the accepted steps between
+//! two looks sized by a [`Pace`]: a step of a system given as formulas may cost a
+//! millisecond).
 
 use crate::Short;
 use crate::Vector;
+#[cfg(doc)]
+use crate::measure::pace::AIM;
+use crate::measure::pace::Pace;
 use crate::model::mechanical::Mechanical;
 use nalgebra::DVector;
 use ode_solvers::dop_shared::{IntegrationError, OutputType};
@@ -38,9 +43,6 @@ pub const SEGMENT: f64 = 1.0;
 
 /// Most Dop853 steps per reference solve: beyond, the solve fails rather than hold a thread.
 pub const MAX_STEPS: u32 = 2_000_000;
-
-/// Accepted steps between two looks at the stop flag of [`reference_until`].
-pub const STOP_EVERY: u32 = 1000;
 
 /// Most accepted steps of one Dop853 solver, which keeps them all: beyond, a new solver
 /// continues.
@@ -77,8 +79,11 @@ pub enum ReferenceError {
     #[error("reference solve diverged")]
     Diverged,
     /// The caller's stop flag turned true.
-    #[error("reference solve cancelled")]
-    Cancelled,
+    #[error("the reference solve (Dop853) was stopped at t = {}", Short(*t))]
+    Cancelled {
+        /// Where it stopped.
+        t: f64,
+    },
 }
 
 /// A reference solution at `t_end`.
@@ -100,15 +105,17 @@ pub struct Reference<const N: usize> {
 }
 
 /// What `solout` counts and decides across the solvers of one solve.
-#[derive(Default)]
 struct Track {
+    /// When to look at the stop flag.
+    pace: Pace,
     /// Accepted steps over all solvers.
     steps: u32,
     /// Accepted steps of the current solver.
     chunk: u32,
     /// The current solver stopped at [`CHUNK`] steps, before its end.
     paused: bool,
-    cancelled: bool,
+    /// Where the stop flag was found set, if it was.
+    cancelled: Option<f64>,
 }
 
 struct Ode<'a, S, const N: usize, const R: usize> {
@@ -139,8 +146,8 @@ impl<S: Mechanical<N, R>, const N: usize, const R: usize> ode_solvers::System<f6
         let mut track = self.track.borrow_mut();
         track.steps += 1;
         track.chunk += 1;
-        if track.steps.is_multiple_of(STOP_EVERY) && (self.stop)() {
-            track.cancelled = true;
+        if track.pace.tick().is_some() && (self.stop)() {
+            track.cancelled = Some(x);
             return true;
         }
         if track.chunk >= CHUNK && x < self.t1 {
@@ -163,7 +170,7 @@ pub fn reference<S: Mechanical<N, R>, const N: usize, const R: usize>(
 }
 
 /// [`reference`], stopped with [`ReferenceError::Cancelled`] when `stop()` turns true; it is
-/// looked at every [`STOP_EVERY`] accepted steps.
+/// looked at about every [`AIM`] (every few accepted steps).
 pub fn reference_until<S: Mechanical<N, R>, const N: usize, const R: usize>(
     sys: &S,
     q: &Vector<N>,
@@ -174,7 +181,13 @@ pub fn reference_until<S: Mechanical<N, R>, const N: usize, const R: usize>(
 ) -> Result<Reference<N>, ReferenceError> {
     let mut y = DVector::from_iterator(2 * N, q.iter().chain(v.iter()).copied());
     let angle = sys.angle();
-    let track = RefCell::new(Track::default());
+    let track = RefCell::new(Track {
+        pace: Pace::default(),
+        steps: 0,
+        chunk: 0,
+        paused: false,
+        cancelled: None,
+    });
     let (mut t, mut turns, mut evaluations, mut steps, mut stored) = (0.0, 0.0, 0, 0, 0);
     while t < t_end {
         let t1 = if angle.is_some() { (t + SEGMENT).min(t_end) } else { t_end };
@@ -231,8 +244,8 @@ pub fn reference_until<S: Mechanical<N, R>, const N: usize, const R: usize>(
                 return Err(ReferenceError::Diverged);
             }
             let tracked = track.borrow();
-            if tracked.cancelled {
-                return Err(ReferenceError::Cancelled);
+            if let Some(t) = tracked.cancelled {
+                return Err(ReferenceError::Cancelled { t });
             }
             if !tracked.paused {
                 break;

@@ -82,7 +82,7 @@ fn failure_names_step_and_time_and_keeps_completed_buckets() {
         let out = run(
             &problem(&sys, 1000),
             &Faulty { fail_at: 537, nan },
-            &RunConfig { points: 10, progress_every: 64 },
+            &RunConfig { points: 10, progress_every: 64, ..RunConfig::default() },
             &mut c,
         );
         let failure = if nan {
@@ -125,7 +125,7 @@ fn observer_cancels() {
     let out = run(
         &problem(&sys, 100_000),
         &Faulty { fail_at: 0, nan: false },
-        &RunConfig { points: 1000, progress_every: 100 },
+        &RunConfig { points: 1000, progress_every: 100, ..RunConfig::default() },
         &mut obs,
     );
     assert_eq!(out.steps, 300);
@@ -138,8 +138,12 @@ fn successful_run_delivers_every_bucket_once() {
     let sys = KnifeEdge { epsilon: 0.0 };
     let mut c = Collect::default();
     let lf = nhlab_core::methods::Leapfrog;
-    let out =
-        run(&problem(&sys, 30_001), &lf, &RunConfig { points: 1000, progress_every: 4096 }, &mut c);
+    let out = run(
+        &problem(&sys, 30_001),
+        &lf,
+        &RunConfig { points: 1000, progress_every: 4096, ..RunConfig::default() },
+        &mut c,
+    );
     assert_eq!(out, nhlab_core::RunOutcome { steps: 30_001, error: None });
     for series in c.series.values() {
         assert_eq!(series.len(), 1000);
@@ -222,4 +226,83 @@ fn the_final_state_counts_the_turns_taken_off() {
     let gap = (Vector::<3>::from_column_slice(&end.0) - by_hand.q).amax();
     assert!(gap < 1e-10, "{gap:e}");
     assert!((Vector::<3>::from_column_slice(&end.1) - by_hand.v).amax() < 1e-10);
+}
+
+/// Euler steps that take `0.5 ms` each, as a step of a heavy system given as formulas may.
+#[derive(Clone, Copy)]
+struct Slow;
+impl Stepper for Slow {
+    type Memory<const N: usize, const R: usize> = Nothing;
+    fn step<S: System<N, R>, const N: usize, const R: usize>(
+        &self,
+        sys: &S,
+        st: &mut State<N, R>,
+        _: &mut Nothing,
+        h: f64,
+    ) -> Result<(), StepFailure> {
+        let start = std::time::Instant::now();
+        while start.elapsed() < std::time::Duration::from_micros(500) {
+            std::hint::spin_loop();
+        }
+        st.q += h * st.v;
+        st.v -= h * sys.gradient(&st.q);
+        Ok(())
+    }
+}
+
+/// Cancels at the first progress call after `at`.
+struct CancelAfter(std::time::Instant);
+impl Observer for CancelAfter {
+    fn points(&mut self, _: Integral, _: Bucket) {}
+    fn progress(&mut self, _done: u64, _t: f64) -> ControlFlow<()> {
+        if std::time::Instant::now() >= self.0 {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+}
+
+#[test]
+fn a_paced_run_of_slow_steps_notices_a_stop_within_milliseconds() {
+    let sys = KnifeEdge { epsilon: 0.0 };
+    let paced = RunConfig { paced: true, ..RunConfig::default() };
+    let at = std::time::Instant::now() + std::time::Duration::from_millis(30);
+    let out = run(&problem(&sys, 1_000_000), &Slow, &paced, &mut CancelAfter(at));
+    let late = at.elapsed();
+    assert!(matches!(out.error, Some(RunError::Cancelled { .. })), "{:?}", out.error);
+    // Every 1024 steps of 0.5 ms, it would have taken half a second; paced, ~5 ms (a loaded
+    // machine may hold the thread longer: the margin is wide).
+    assert!(late < std::time::Duration::from_millis(300), "stopped {late:?} after the stop");
+    assert!(out.steps < 1024, "{} steps", out.steps);
+}
+
+#[test]
+fn a_run_past_its_time_limit_ends_with_the_limit_and_where_it_stopped() {
+    let sys = KnifeEdge { epsilon: 0.0 };
+    let limit = std::time::Duration::from_millis(20);
+    for paced in [true, false] {
+        let cfg = RunConfig {
+            paced,
+            progress_every: 16,
+            time_limit: Some(limit),
+            ..RunConfig::default()
+        };
+        let mut c = Collect::default();
+        let out = run(&problem(&sys, 1_000_000), &Slow, &cfg, &mut c);
+        let Some(RunError::TimeLimit { step, t, limit: seconds }) = out.error else {
+            panic!("{:?}", out.error)
+        };
+        assert_eq!((step, seconds), (out.steps, 0.02));
+        // Each step takes at least 0.5 ms: at most 40 fit in the limit, and the limit is
+        // looked at within 16 more (fewer on a loaded machine, where steps take longer).
+        assert!((1..=56).contains(&step), "{step} steps");
+        assert!((t - step as f64 * 0.01).abs() < 1e-9);
+        let message = out.error.unwrap().to_string();
+        assert!(message.starts_with("time limit: ") && message.contains("0.02 s"), "{message}");
+    }
+    // Within its limit, a run ends as usual.
+    let cfg = RunConfig { paced: true, time_limit: Some(limit * 100), ..RunConfig::default() };
+    let out = run(&problem(&sys, 10), &Slow, &cfg, &mut Collect::default());
+    assert_eq!(out, nhlab_core::RunOutcome { steps: 10, error: None });
 }

@@ -3,9 +3,7 @@
 
 use nhlab_core::BuiltIn;
 use nhlab_core::Vector;
-use nhlab_core::measure::reference::{
-    CHUNK, ReferenceError, STOP_EVERY, TOL, reference, reference_until,
-};
+use nhlab_core::measure::reference::{CHUNK, ReferenceError, TOL, reference, reference_until};
 use nhlab_core::model::mechanical::General;
 use nhlab_core::systems::{Cvt, CvtPendulum};
 use std::cell::Cell;
@@ -24,7 +22,10 @@ fn a_stop_that_turns_true_at_the_kth_look_cancels_the_solve() {
             calls.get() >= k
         };
         let r = reference_until(&General(&Cvt), &q, &v, 1000.0, TOL, &stop);
-        assert_eq!(r, Err(ReferenceError::Cancelled));
+        assert!(
+            matches!(r, Err(ReferenceError::Cancelled { t }) if t > 0.0 && t < 1000.0),
+            "{r:?}"
+        );
         assert_eq!(calls.get(), k, "the solve goes on after the stop");
     }
     // Across the one-time-unit segments of an angle ζ too.
@@ -35,10 +36,8 @@ fn a_stop_that_turns_true_at_the_kth_look_cancels_the_solve() {
         calls.set(calls.get() + 1);
         calls.get() >= 2
     };
-    assert_eq!(
-        reference_until(&General(&sys), &q, &v, 3000.0, TOL, &stop),
-        Err(ReferenceError::Cancelled)
-    );
+    let r = reference_until(&General(&sys), &q, &v, 3000.0, TOL, &stop);
+    assert!(matches!(r, Err(ReferenceError::Cancelled { .. })), "{r:?}");
     assert_eq!(calls.get(), 2);
 }
 
@@ -52,7 +51,9 @@ fn a_stop_that_stays_false_changes_nothing() {
     };
     let a = reference_until(&General(&Cvt), &q, &v, 300.0, TOL, &stop).unwrap();
     assert_eq!(a, reference(&General(&Cvt), &q, &v, 300.0, TOL).unwrap());
-    assert_eq!(calls.get(), a.steps / STOP_EVERY);
+    // Looked at as the pace says: after the first step, then ever fewer times as the
+    // steps between two looks grow (doubled while they take less than the aim).
+    assert!(calls.get() >= 1 && calls.get() < a.steps / 10, "{} looks", calls.get());
 }
 
 #[test]

@@ -1,7 +1,7 @@
-//! [`Cancel`]: the flag that stops a request's runs, checked by the observers every
-//! [`PROGRESS_EVERY`](crate::compute::PROGRESS_EVERY) steps, and [`CancelOnDrop`], which sets
-//! it when whatever lives as long as the client (the handler's future, the stream's body) is
-//! dropped.
+//! [`Cancel`]: the flag that stops a request's runs, checked by the observers at every
+//! progress call (at most a few milliseconds apart, [`run_config`](crate::compute::run_config)), and
+//! [`CancelOnDrop`], which sets it when whatever lives as long as the client (the handler's
+//! future, the stream's body) is dropped.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -1,15 +1,17 @@
-//! Where simulations compute, off the async runtime: a request checked into a [`Plan`], its
-//! admission [`Slot`], the [`Runner`] that runs each method on the blocking pool (timed by a
-//! [`ThreadClock`], counted in [`ActiveRuns`], stopped through [`Cancel`]), the memory its
-//! answer may hold ([`AnswerBudget`]), and the [`Caches`] of latitude axes and references
-//! kept across requests. Nothing here knows the app's state
-//! or its handlers: they hand in what is needed.
+//! Where simulations compute, off the async runtime: a request checked into a [`Plan`] and
+//! its work priced ([`check_price`]), its admission [`Slot`], the [`Runner`] that runs each
+//! method on the blocking pool (timed by a [`ThreadClock`], counted in [`ActiveRuns`],
+//! stopped through [`Cancel`] or by its time limit), the memory its answer may hold
+//! ([`AnswerBudget`]), and the [`Caches`] of latitude axes and references kept across
+//! requests. Nothing here knows the app's state or its handlers: they hand in what is
+//! needed.
 
 mod active_runs;
 mod budget;
 mod cache;
 mod cancel;
 mod plan;
+mod price;
 mod runner;
 mod slot;
 mod thread_clock;
@@ -20,7 +22,13 @@ pub use budget::{
 };
 pub use cache::{CAPACITY, Cache, Caches, ReferenceKey, SceneKey};
 pub use cancel::{Cancel, CancelOnDrop};
-pub use plan::{Delivery, Plan, check_answer_bytes, method, methods, points, steps_of, steps_text};
-pub use runner::{Finished, PROGRESS_EVERY, Runner, lower_priority, off_runtime};
+pub use plan::{
+    ADVICE, Delivery, Plan, check_answer_bytes, method, methods, points, priced, steps_of,
+    steps_text,
+};
+pub use price::{Priced, about, check_price, duration};
+pub use runner::{
+    Finished, PROGRESS_EVERY, Runner, lower_priority, off_runtime, run_config, time_limit,
+};
 pub use slot::Slot;
 pub use thread_clock::{ThreadClock, millis};

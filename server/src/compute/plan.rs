@@ -1,12 +1,17 @@
-//! [`Plan`]: a `/simulate` request resolved and checked against the core and the limits,
-//! ready to run. Every error names the field at fault.
+//! [`Plan`]: a `/simulate` request resolved and checked against the core and the limits
+//! (steps, answer size, CPU time estimated: [`check_price`]), ready to run. Every error names
+//! the field at fault.
 
-use crate::compute::{Caches, JSON_BYTES_PER_POINT, answer_bytes, mib};
+use crate::compute::{Caches, JSON_BYTES_PER_POINT, Priced, answer_bytes, check_price, mib};
 use crate::config::Config;
 use crate::error::AppError;
 use crate::request::{MethodRequest, SimulateRequest};
 use crate::views::SceneView;
+use nhlab_core::catalogue::cost::run_cost;
 use nhlab_core::{InputError, Method, MethodSpec, PreparedScene, Scene, Short};
+
+/// What a request over `max_request_seconds` may do.
+pub const ADVICE: &str = "shorten t_end, lengthen the step or use fewer methods";
 use std::sync::Arc;
 
 /// How the result goes back: the limits differ.
@@ -75,6 +80,12 @@ impl Plan {
             check_steps(&scene, config, delivery, composed)?;
         }
         let points = points(req.points, config)?;
+        // Priced before the latitude axis is solved; the endpoints that cannot stream price
+        // all their plans together.
+        if delivery != Delivery::JsonOnly {
+            let priced: Vec<Priced> = methods.iter().map(|m| priced(&scene, m, 1.0)).collect();
+            check_price(&priced, config, "t_end", ADVICE)?;
+        }
         let prepared = match &req.integrals {
             None => scene.prepare_with_latitude(None, axis)?,
             Some(names) if names.is_empty() => {
@@ -112,6 +123,17 @@ impl Plan {
         Ok(plan)
     }
 
+    /// What its runs will cost: one run per method that applies.
+    pub fn priced(&self) -> Vec<Priced> {
+        let scene = &self.prepared.scene;
+        self.methods
+            .iter()
+            .zip(&self.not_applicable)
+            .filter(|(_, why)| why.is_none())
+            .map(|(m, _)| priced(scene, m, 1.0))
+            .collect()
+    }
+
     /// What the runs of this plan hold at the peak of their answer, at `bytes_per_point`:
     /// one series per method and integral, each of `points` buckets (fewer if the run has
     /// fewer steps).
@@ -120,6 +142,11 @@ impl Plan {
         let points = (self.points as u64).min(self.scene.steps.saturating_add(1));
         answer_bytes(series, points, bytes_per_point)
     }
+}
+
+/// `runs` runs of `m` on `scene`, priced.
+pub fn priced(scene: &Scene, m: &Method, runs: f64) -> Priced {
+    Priced::new(m.label(), runs, run_cost(scene, m))
 }
 
 /// Refuses a request whose answer would hold more than `max_answer_bytes` (422 at `points`,

@@ -6,10 +6,14 @@
 //!
 //! Checking a request runs there too ([`off_runtime`]), before admission.
 //!
-//! Cancellation: a [`Cancel`](crate::compute::Cancel) flag, checked by the observers every
-//! [`PROGRESS_EVERY`] steps (microseconds apart), set when the client goes away (the
-//! handler's future or the stream is dropped, see
-//! [`CancelOnDrop`](crate::compute::CancelOnDrop)).
+//! Cancellation: a [`Cancel`](crate::compute::Cancel) flag, set when the client goes away
+//! (the handler's future or the stream is dropped, see
+//! [`CancelOnDrop`](crate::compute::CancelOnDrop)) or the server shuts down, and checked by
+//! the observers at every progress call. A run is paced ([`run_config`]): the core calls its
+//! observer every [`PROGRESS_EVERY`] steps, or about every
+//! [`AIM`](nhlab_core::measure::pace::AIM) where those steps would take longer (a built-in's
+//! step costs 50 ns, a heavy formula system's milliseconds), so a run notices within a few
+//! milliseconds whatever its system; and it ends as failed past `max_run_seconds`.
 
 use crate::compute::{ActiveRuns, Plan, Slot, ThreadClock, millis};
 use crate::config::Config;
@@ -17,11 +21,26 @@ use crate::error::AppError;
 use crate::views::{MethodView, RunSummary};
 use nhlab_core::{Observer, RunConfig, RunOutcome};
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 use tokio::task::JoinHandle;
 
-/// Steps between two looks at the cancellation flag (and the clock, for progress).
+/// Most steps between two looks at the cancellation flag (and the clock, for progress):
+/// microseconds of a built-in's steps; fewer where they would take longer than a few
+/// milliseconds ([`run_config`]).
 pub const PROGRESS_EVERY: u64 = 1024;
+
+/// How every run of the server reports: `points` buckets per series, progress every
+/// [`PROGRESS_EVERY`] steps or paced by the clock where those take longer than a few
+/// milliseconds (a look at the cancellation flag at least that often), and the time limit
+/// `limit` ([`time_limit`]), if any.
+pub fn run_config(points: usize, limit: Option<Duration>) -> RunConfig {
+    RunConfig { points, progress_every: PROGRESS_EVERY, paced: true, time_limit: limit }
+}
+
+/// `max_run_seconds` as a duration (a limit too large for one is as good as none).
+pub fn time_limit(config: &Config) -> Duration {
+    Duration::try_from_secs_f64(config.max_run_seconds).unwrap_or(Duration::MAX)
+}
 
 /// How one run ended.
 #[derive(Debug)]
@@ -53,6 +72,8 @@ impl<O> Finished<O> {
 pub struct Runner {
     runs: ActiveRuns,
     slot: Option<Slot>,
+    /// `Config::max_run_seconds`.
+    time_limit: Duration,
     /// `Config::panic_on_points` (debug builds only).
     #[cfg(debug_assertions)]
     panic_on_points: Option<usize>,
@@ -61,11 +82,10 @@ pub struct Runner {
 impl Runner {
     /// A runner counting its runs in `runs`, with the app's `config`.
     pub fn new(runs: &ActiveRuns, config: &Config) -> Self {
-        #[cfg(not(debug_assertions))]
-        let _ = config;
         Self {
             runs: runs.clone(),
             slot: None,
+            time_limit: time_limit(config),
             #[cfg(debug_assertions)]
             panic_on_points: config.panic_on_points,
         }
@@ -105,7 +125,7 @@ impl Runner {
         let inject_panic = self.panic_on_points == Some(plan.points);
         let prepared = plan.prepared.clone();
         let method = plan.methods[index];
-        let cfg = RunConfig { points: plan.points, progress_every: PROGRESS_EVERY };
+        let cfg = run_config(plan.points, Some(self.time_limit));
         tokio::task::spawn_blocking(move || {
             let (_guard, _slot) = (guard, slot);
             lower_priority();

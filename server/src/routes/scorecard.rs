@@ -10,7 +10,8 @@
 //! [`JsonCollector`], of which only the verdicts are reported.
 
 use crate::compute::{
-    Cancel, Delivery, KEPT_BYTES_PER_POINT, Plan, Slot, check_answer_bytes, lower_priority,
+    Cancel, Delivery, KEPT_BYTES_PER_POINT, Plan, Priced, Slot, check_answer_bytes, check_price,
+    lower_priority,
 };
 use crate::error::{AppError, ErrorBody};
 use crate::json_object::JsonObject;
@@ -23,11 +24,16 @@ use crate::views::{
 };
 use axum::Json;
 use axum::extract::State;
+use nhlab_core::catalogue::cost::run_cost_of;
 use nhlab_core::catalogue::registry::LITERATURE_SCENES;
 use nhlab_core::{Method, PAPER_SCENES};
 
 /// Most scenes per scorecard.
 pub const MAX_SCENES: usize = 16;
+
+/// Steps that measuring a method's properties on a scene takes (round trips from four
+/// points, the coupling checks, the manifold check's 200), rounded up: priced with its runs.
+const PROPERTY_STEPS: f64 = 400.0;
 
 /// Scores methods on scenes: verdicts of every error series and measured properties.
 #[utoipa::path(
@@ -44,7 +50,9 @@ pub const MAX_SCENES: usize = 16;
         (status = 400, description = "The body is not valid JSON of the right shape", body = ErrorBody),
         (status = 413, description = "The body is too large", body = ErrorBody),
         (status = 415, description = "The body was not sent with `Content-Type: application/json`", body = ErrorBody),
-        (status = 422, description = "A field is wrong (the error names it, e.g. `scenes[1].preset`)", body = ErrorBody),
+        (status = 422, description = "A field is wrong (the error names it, e.g. \
+            `scenes[1].preset`), or the work is estimated over max_request_seconds of CPU (the \
+            estimate in the message)", body = ErrorBody),
         (status = 500, description = "Internal error", body = ErrorBody),
         (status = 503, description = "Every simulation slot is taken, or the server is \
             shutting down; retry after `Retry-After` seconds", body = ErrorBody,
@@ -129,6 +137,18 @@ fn plans(req: &ScorecardRequest, state: &AppState) -> Result<(Vec<Plan>, u64), A
         .collect::<Result<Vec<_>, _>>()?;
     let held = plans.iter().map(|p| p.held_bytes(KEPT_BYTES_PER_POINT)).sum();
     check_answer_bytes(held, &state.config, " (its runs' series, kept for the verdicts)")?;
+    let mut priced = Vec::new();
+    for plan in &plans {
+        priced.extend(plan.priced());
+        let system = &plan.prepared.scene.system;
+        for (m, why) in plan.methods.iter().zip(&plan.not_applicable) {
+            if why.is_none() {
+                let cost = run_cost_of(system, m, PROPERTY_STEPS);
+                priced.push(Priced::new(format!("{}'s properties", m.label()), 1.0, cost));
+            }
+        }
+    }
+    check_price(&priced, &state.config, "scenes", "shorten t_end, use fewer scenes or methods")?;
     Ok((plans, held))
 }
 
@@ -162,9 +182,11 @@ async fn run(
         let measure = tokio::task::spawn_blocking(move || {
             let (_guard, _slot) = (guard, slot);
             lower_priority();
+            // Stopped between two steps when the client goes away (its result is then not
+            // reported).
+            let stop = || cancel.is_cancelled();
             let measure = |(m, why): (&Method, &Option<String>)| {
-                (!cancel.is_cancelled())
-                    .then(|| if why.is_some() { None } else { Some(scene.scene.properties(m)) })
+                (!stop()).then(|| why.is_none().then(|| scene.scene.properties_until(m, &stop)))
             };
             methods.iter().zip(&not_applicable).map(measure).collect::<Vec<_>>()
         });

@@ -38,7 +38,8 @@ use axum::response::{IntoResponse, Response};
         (status = 400, description = "The body is not valid JSON of the right shape", body = ErrorBody),
         (status = 413, description = "The body is too large", body = ErrorBody),
         (status = 415, description = "The body was not sent with `Content-Type: application/json`", body = ErrorBody),
-        (status = 422, description = "A field is wrong (the error names it)", body = ErrorBody),
+        (status = 422, description = "A field is wrong (the error names it), or the work is \
+            estimated over max_request_seconds of CPU (the estimate in the message)", body = ErrorBody),
         (status = 500, description = "Internal error", body = ErrorBody),
         (status = 503, description = "Every simulation slot is taken, or the server is \
             shutting down; retry after `Retry-After` seconds", body = ErrorBody,

@@ -5,7 +5,8 @@
 //! reads it. Each run makes its last `points` and its `run` event on its own thread as it
 //! ends; a coordinating task sends them, then `done`. When the client goes away the body is
 //! dropped, which sets the request's [`Cancel`] flag: the runs see it within
-//! [`PROGRESS_EVERY`](crate::compute::PROGRESS_EVERY) steps and stop.
+//! [`PROGRESS_EVERY`](crate::compute::PROGRESS_EVERY) steps or a few milliseconds, whichever
+//! comes first, and stop.
 //!
 //! The stream holds its simulation [`Slot`] until its runs have stopped and its last event is
 //! sent. On shutdown ([`AppState::shut_down`]) the runs are stopped, their `run` events sent,
@@ -76,7 +77,8 @@ async fn coordinate(
         let next = tokio::select! {
             next = runs.next() => next,
             () = &mut shutdown, if !shutting_down => {
-                // The runs see the flag within PROGRESS_EVERY steps and end as cancelled.
+                // The runs see the flag at their next progress call, a few milliseconds away
+                // (paced by the clock), and end as cancelled.
                 shutting_down = true;
                 cancel.cancel();
                 continue;

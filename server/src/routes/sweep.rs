@@ -5,7 +5,9 @@
 //! (`Accept: text/event-stream`: `start`, a `cell` event as each cell completes, `progress`,
 //! `done`). When the client goes away the workers stop within a cell's current run.
 
-use crate::compute::{BudgetGuard, Cancel, Delivery, Slot, lower_priority, millis, off_runtime};
+use crate::compute::{
+    BudgetGuard, Cancel, Delivery, Slot, lower_priority, millis, off_runtime, time_limit,
+};
 use crate::error::{AppError, ErrorBody};
 use crate::json_object::JsonObject;
 use crate::observers::sse_event;
@@ -49,7 +51,8 @@ use tokio_stream::wrappers::ReceiverStream;
         (status = 413, description = "The body is too large", body = ErrorBody),
         (status = 415, description = "The body was not sent with `Content-Type: application/json`", body = ErrorBody),
         (status = 422, description = "A field is wrong (the error names it, e.g. \
-            `axes[0].path`), or the sweep is over a limit (cells, steps, answer size)", body = ErrorBody),
+            `axes[0].path`), or the sweep is over a limit (cells, steps, answer size, CPU time \
+            estimated against max_request_seconds)", body = ErrorBody),
         (status = 500, description = "Internal error", body = ErrorBody),
         (status = 503, description = "Every simulation slot is taken, or the server is \
             shutting down; retry after `Retry-After` seconds", body = ErrorBody,
@@ -137,6 +140,7 @@ fn start(
     let (tx, rx) = mpsc::channel(2 * workers);
     let order: Arc<Vec<usize>> = Arc::new((0..sweep.cells.len()).collect());
     let next = Arc::new(AtomicUsize::new(0));
+    let limit = time_limit(&state.config);
     for _ in 0..workers {
         let (sweep, order, next, cancel, tx) =
             (sweep.clone(), order.clone(), next.clone(), cancel.clone(), tx.clone());
@@ -145,7 +149,8 @@ fn start(
             let (_guard, _slot) = (guard, slot);
             lower_priority();
             let axis = |scene: &nhlab_core::Scene| caches.latitude(scene);
-            sweep.work(&order, &next, &cancel, &axis, &mut |cell| tx.blocking_send(cell).is_ok());
+            let limits = (&cancel, Some(limit));
+            sweep.work(&order, &next, limits, &axis, &mut |cell| tx.blocking_send(cell).is_ok());
         });
     }
     rx

@@ -4,18 +4,21 @@
 //! buys: the final error in (q, q̇) against a Dop853 reference at t_end, and the largest
 //! error of each integral (`nhlab_core::work_precision`).
 //!
-//! Like `/simulate`: input checked field by field before admission, one simulation slot,
-//! the computation on the blocking pool, stopped when the client goes away — the reference
-//! solve too, which looks at the flag every [`STOP_EVERY`] Dop853 steps. The reference is
-//! kept across requests in [`Caches`] (`reference.cached` says whether this request reused
-//! one) unless it was cancelled. Its solve fails beyond [`MAX_STEPS`] Dop853 steps, so its
-//! cost is bounded whatever t_end is; its memory does not grow with the steps.
+//! Like `/simulate`: input checked field by field before admission (the rows' runs priced
+//! against `max_request_seconds`), one simulation slot, the computation on the blocking pool,
+//! stopped when the client goes away — the reference solve too, which looks at the flag every
+//! few milliseconds ([`AIM`]). Each run, and the reference solve, ends past
+//! `max_run_seconds`. The reference is kept across requests in [`Caches`]
+//! (`reference.cached` says whether this request reused one) unless it was stopped. Its solve
+//! fails beyond [`MAX_STEPS`] Dop853 steps, so its cost is bounded whatever t_end is; its
+//! memory does not grow with the steps.
 //!
-//! [`STOP_EVERY`]: nhlab_core::measure::reference::STOP_EVERY
+//! [`AIM`]: nhlab_core::measure::pace::AIM
 //! [`MAX_STEPS`]: nhlab_core::measure::reference::MAX_STEPS
 
 use crate::compute::{
-    Caches, Cancel, Delivery, KEPT_BYTES_PER_POINT, Plan, ReferenceKey, Slot, lower_priority,
+    Caches, Cancel, Delivery, KEPT_BYTES_PER_POINT, Plan, Priced, ReferenceKey, Slot, check_price,
+    lower_priority, time_limit,
 };
 use crate::config::Config;
 use crate::error::{AppError, ErrorBody};
@@ -25,10 +28,12 @@ use crate::state::AppState;
 use crate::views::{ReferenceView, Status, WorkPrecisionResponse, WorkPrecisionRow};
 use axum::Json;
 use axum::extract::State;
-use nhlab_core::catalogue::work_precision::{measure_until, reference_until};
+use nhlab_core::catalogue::cost::run_cost_of;
+use nhlab_core::catalogue::work_precision::{measure_within, reference_until};
 use nhlab_core::measure::reference::{ReferenceError, TOL};
 use nhlab_core::{Scene, SceneRequest, Short};
 use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::time::{Duration, Instant};
 
 /// Most step sizes per request (`levels`, or entries of `steps`).
 pub const MAX_LEVELS: usize = 12;
@@ -53,7 +58,9 @@ pub const DEFAULT_REPEATS: i64 = 3;
         (status = 400, description = "The body is not valid JSON of the right shape", body = ErrorBody),
         (status = 413, description = "The body is too large", body = ErrorBody),
         (status = 415, description = "The body was not sent with `Content-Type: application/json`", body = ErrorBody),
-        (status = 422, description = "A field is wrong (the error names it, e.g. `steps[2]`)", body = ErrorBody),
+        (status = 422, description = "A field is wrong (the error names it, e.g. `steps[2]`), \
+            the work is estimated over max_request_seconds of CPU (the estimate in the \
+            message), or the reference solve failed (at `t_end`)", body = ErrorBody),
         (status = 500, description = "Internal error", body = ErrorBody),
         (status = 503, description = "Every simulation slot is taken, or the server is \
             shutting down; retry after `Retry-After` seconds", body = ErrorBody,
@@ -143,6 +150,19 @@ impl Job {
                 ),
             ));
         }
+        let system = &plan.prepared.scene.system;
+        let priced: Vec<Priced> = plan
+            .methods
+            .iter()
+            .flat_map(|m| {
+                steps.iter().map(move |&s| {
+                    let cost = run_cost_of(system, m, (t_end / s).round().max(1.0));
+                    Priced::new(m.label(), repeats as f64, cost)
+                })
+            })
+            .collect();
+        let advice = "use fewer or larger steps, fewer repeats or methods, or a shorter t_end";
+        check_price(&priced, &state.config, field, advice)?;
         Ok(Self { plan, steps, repeats: repeats as u32 })
     }
 }
@@ -199,26 +219,47 @@ async fn run(state: &AppState, job: Job, slot: Slot) -> Result<WorkPrecisionResp
     // If the client goes away, this future is dropped and the rows stop.
     let _on_drop = cancel.on_drop();
     let (guard, caches) = (state.run_guard(), state.caches.clone());
+    let limit = time_limit(&state.config);
     let task = tokio::task::spawn_blocking(move || {
         let (_guard, _slot) = (guard, slot);
         lower_priority();
-        catch_unwind(AssertUnwindSafe(|| compute(&job, &caches, &cancel)))
+        catch_unwind(AssertUnwindSafe(|| compute(&job, &caches, &cancel, limit)))
             .map_err(|_| AppError::internal("internal error: the work-precision run panicked"))?
     });
     task.await.map_err(|e| AppError::internal(format!("work-precision task: {e}")))?
 }
 
-fn compute(job: &Job, caches: &Caches, cancel: &Cancel) -> Result<WorkPrecisionResponse, AppError> {
+fn compute(
+    job: &Job,
+    caches: &Caches,
+    cancel: &Cancel,
+    limit: Duration,
+) -> Result<WorkPrecisionResponse, AppError> {
     let prepared = &job.plan.prepared;
     let key = ReferenceKey::of(&prepared.scene, TOL);
     let stop = || cancel.is_cancelled();
+    // The reference solve stops when the client goes away, or past the time limit of a run.
+    let started = Instant::now();
+    let stop_solve = || stop() || started.elapsed() > limit;
     let (solved, cached) = caches.reference.get_or_compute_keeping(
         key,
-        || reference_until(prepared, &stop),
-        |r| r != &Err(ReferenceError::Cancelled),
+        || reference_until(prepared, &stop_solve),
+        |r| !matches!(r, Err(ReferenceError::Cancelled { .. })),
     );
     let r = solved.map_err(|e| match e {
-        ReferenceError::Cancelled => AppError::internal("the work-precision run was cancelled"),
+        ReferenceError::Cancelled { .. } if stop() => {
+            AppError::internal("the work-precision run was cancelled")
+        }
+        ReferenceError::Cancelled { t } => AppError::invalid(
+            "t_end",
+            format!(
+                "time limit: the reference solve (Dop853) took longer than {} s and was stopped \
+                 at t = {} of t_end = {} (max_run_seconds); try a shorter t_end",
+                Short(limit.as_secs_f64()),
+                Short(t),
+                Short(prepared.scene.t_end)
+            ),
+        ),
         e => AppError::invalid("t_end", format!("{e}, at tolerance {TOL:e}; try a shorter t_end")),
     })?;
     let mut rows = Vec::with_capacity(job.plan.methods.len() * job.steps.len());
@@ -227,7 +268,8 @@ fn compute(job: &Job, caches: &Caches, cancel: &Cancel) -> Result<WorkPrecisionR
             if stop() {
                 return Err(AppError::internal("the work-precision run was cancelled"));
             }
-            let row = measure_until(prepared, &r.state, method, h, job.repeats, &stop);
+            let row =
+                measure_within(prepared, &r.state, method, h, job.repeats, &stop, Some(limit));
             let finite = |x: f64| x.is_finite().then_some(x);
             let max_error = prepared
                 .integrals

@@ -6,6 +6,7 @@
 //!
 //! - [`axis`]: an axis, its path ([`Target`]) and values;
 //! - [`plan`]: the request checked into its cells ([`Sweep`]);
+//! - [`price`]: its work priced before admission;
 //! - [`work`]: computing cells, a worker's loop;
 //! - [`csv`]: rows as CSV;
 //! - [`shards`]: shard files, their resumption and their merge.
@@ -13,6 +14,7 @@
 pub mod axis;
 pub mod csv;
 pub mod plan;
+mod price;
 pub mod shards;
 mod work;
 

@@ -203,6 +203,14 @@ impl Sweep {
             let (path, message) = errors[0].split_once(": ").unwrap_or(("", errors[0]));
             return Err(AppError::invalid(path, message));
         }
+        let runs = out.iter().filter_map(|c| Some((c.scene.as_ref().ok()?, &c.methods)));
+        let runs = runs.flat_map(|(scene, methods)| {
+            methods
+                .iter()
+                .enumerate()
+                .filter_map(move |(i, m)| Some((i, scene, m.1.as_ref().ok()?)))
+        });
+        crate::sweep::price::check(runs, config)?;
         let integrals = req.integrals.clone();
         let measured = match out.iter().find_map(|c| c.scene.as_ref().ok()) {
             Some(scene) => {

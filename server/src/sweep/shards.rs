@@ -137,6 +137,8 @@ pub fn local_config() -> Config {
         max_sweep_cells: 100_000_000,
         max_sweep_steps: u64::MAX,
         max_steps_stream: u64::MAX,
+        max_run_seconds: f64::INFINITY,
+        max_request_seconds: f64::INFINITY,
         ..Config::default()
     }
 }
@@ -223,7 +225,8 @@ pub fn compute(
             let tx = tx.clone();
             let (next, cancel, axis) = (&next, &cancel, &axis);
             scope.spawn(move || {
-                sweep.work(cells, next, cancel, axis, &mut |cell| tx.send(cell).is_ok())
+                // One's own machine: no time limit.
+                sweep.work(cells, next, (cancel, None), axis, &mut |cell| tx.send(cell).is_ok())
             });
         }
         drop(tx);

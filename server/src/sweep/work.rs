@@ -4,26 +4,28 @@
 //! pool; `nhlab sweep` one per thread it is given. Either way a cell's rows depend on the
 //! cell alone, so the same request gives the same rows, whatever the workers and the order.
 
-use crate::compute::{Cancel, PROGRESS_EVERY, ThreadClock};
+use crate::compute::{Cancel, ThreadClock, run_config};
 use crate::observers::{IntegralNames, JsonCollector};
 use crate::request::{MethodRequest, SystemField};
 use crate::sweep::plan::{AxisSource, Sweep, prepare};
 use crate::views::{MethodView, RowStatus, SimulateEcho, SweepCell, SweepRow};
 use nhlab_core::solver::newton;
-use nhlab_core::{Method, RunConfig, RunError, Scene};
+use nhlab_core::{Method, RunError, Scene};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Duration;
 
 impl Sweep {
     /// A worker: computes the cells `order[k]` for the `k`s it takes from `next`, handing each
-    /// to `out` (which returns false to stop), until `order` is done or `cancel` is set.
+    /// to `out` (which returns false to stop), until `order` is done or `cancel` is set. Each
+    /// run ends as failed past `time_limit`, if there is one.
     pub fn work(
         &self,
         order: &[usize],
         next: &AtomicUsize,
-        cancel: &Cancel,
+        (cancel, time_limit): (&Cancel, Option<Duration>),
         axis: AxisSource,
         out: &mut dyn FnMut(SweepCell) -> bool,
     ) {
@@ -32,22 +34,28 @@ impl Sweep {
             if k >= order.len() || cancel.is_cancelled() {
                 return;
             }
-            let Some(cell) = self.compute(order[k], cancel, axis) else { return };
+            let Some(cell) = self.compute(order[k], (cancel, time_limit), axis) else { return };
             if !out(cell) {
                 return;
             }
         }
     }
 
-    /// The rows of cell `c`, or `None` if the sweep was cancelled meanwhile.
-    pub fn compute(&self, c: usize, cancel: &Cancel, axis: AxisSource) -> Option<SweepCell> {
+    /// The rows of cell `c`, or `None` if the sweep was cancelled meanwhile; each run ends as
+    /// failed past `time_limit`, if there is one.
+    pub fn compute(
+        &self,
+        c: usize,
+        (cancel, time_limit): (&Cancel, Option<Duration>),
+        axis: AxisSource,
+    ) -> Option<SweepCell> {
         let cell = &self.cells[c];
         let prepared = match &cell.scene {
             Ok(scene) => prepare(scene, self.integrals.as_deref(), axis)
                 .map_err(|e| format!("{}: {}", e.path.unwrap_or_default(), e.message)),
             Err(e) => Err(e.clone()),
         };
-        let cfg = RunConfig { points: self.points, progress_every: PROGRESS_EVERY };
+        let cfg = run_config(self.points, time_limit);
         let mut rows = Vec::with_capacity(cell.methods.len());
         for (i, (request, method)) in cell.methods.iter().enumerate() {
             let view = method.as_ref().map_or_else(|_| view_of(request), MethodView::of);

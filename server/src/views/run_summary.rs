@@ -17,7 +17,8 @@ pub struct RunSummary {
     pub method: MethodView,
     /// `ok` or `failed`.
     pub status: Status,
-    /// Why it failed (step and time), or null.
+    /// Why it failed (step and time: diverged, Newton, or `time limit:` past
+    /// `max_run_seconds`), or null.
     pub error: Option<String>,
     /// Steps completed.
     pub steps: u64,

@@ -5,9 +5,11 @@
 
 use crate::measure::bucket::Lanes;
 use crate::measure::latitude::LatitudeAxis;
+use crate::measure::pace::Pace;
 use crate::model::custom::Invariants;
 use crate::{Bucket, Gap, Integral, RunError, State, StepFailure};
 use std::ops::ControlFlow;
+use std::time::{Duration, Instant};
 
 /// Watches a run (argmin-style observer): receives completed buckets and progress, and may
 /// stop the run.
@@ -21,7 +23,9 @@ pub trait Observer {
     fn gap(&mut self, _integral: Integral, _gap: Gap) {}
     /// The final state of a run that reached t_end (work–precision measures it).
     fn finish(&mut self, _q: &[f64], _v: &[f64]) {}
-    /// Called every [`RunConfig::progress_every`] steps; `Break` cancels the run.
+    /// Called every [`RunConfig::progress_every`] steps, or about every
+    /// [`AIM`](crate::measure::pace::AIM) of a [`paced`](RunConfig::paced) run; `Break`
+    /// cancels the run.
     fn progress(&mut self, _steps_done: u64, _t: f64) -> ControlFlow<()> {
         ControlFlow::Continue(())
     }
@@ -50,18 +54,26 @@ impl Observer for Collect {
     }
 }
 
-/// How a run reports.
+/// How a run reports, and how long it may take.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunConfig {
     /// Buckets per series.
     pub points: usize,
-    /// Steps between progress calls.
+    /// Steps between progress calls; at most, for a [`paced`](Self::paced) run.
     pub progress_every: u64,
+    /// Progress calls paced by the clock too ([`Pace`]): every `progress_every` steps, or
+    /// more often where that would take longer than about
+    /// [`AIM`](crate::measure::pace::AIM) (a step of a system given as formulas may cost a
+    /// millisecond). What a caller that must stop promptly asks for.
+    pub paced: bool,
+    /// The longest the run may take, wall clock: past it the run ends with
+    /// [`RunError::TimeLimit`] (looked at with the progress calls).
+    pub time_limit: Option<Duration>,
 }
 
 impl Default for RunConfig {
     fn default() -> Self {
-        Self { points: 1000, progress_every: 4096 }
+        Self { points: 1000, progress_every: 4096, paced: false, time_limit: None }
     }
 }
 
@@ -155,19 +167,27 @@ impl<const K: usize> StepSeries<K> {
     }
 }
 
-/// The countdown to a run's next call of [`Observer::progress`] (no division per step).
+/// The countdown to a run's next call of [`Observer::progress`] (no division per step, no
+/// clock read between two calls), and its time limit.
 pub(crate) struct Progress {
     every: u64,
     next: u64,
+    /// The pace of a paced run.
+    pace: Option<Pace>,
+    /// When the run started, and its time limit.
+    limit: Option<(Instant, Duration)>,
 }
 
 impl Progress {
     pub(crate) fn new(cfg: &RunConfig) -> Self {
         let every = cfg.progress_every.max(1);
-        Self { every, next: every }
+        let pace = cfg.paced.then(|| Pace::new(every));
+        let next = pace.map_or(every, |p| p.every());
+        Self { every, next, pace, limit: cfg.time_limit.map(|limit| (Instant::now(), limit)) }
     }
 
-    /// After step k, at time t: the run's outcome if the observer asks it to stop.
+    /// After step k, at time t: the run's outcome if it is past its time limit or the
+    /// observer asks it to stop.
     #[inline]
     pub(crate) fn tick(
         &mut self,
@@ -178,7 +198,31 @@ impl Progress {
         if k != self.next {
             return None;
         }
-        self.next += self.every;
+        self.call(k, t, observer)
+    }
+
+    #[inline(never)]
+    fn call(&mut self, k: u64, t: f64, observer: &mut dyn Observer) -> Option<RunOutcome> {
+        let now = match &mut self.pace {
+            Some(pace) => {
+                let now = pace.look();
+                self.next += pace.every();
+                Some(now)
+            }
+            None => {
+                self.next += self.every;
+                self.limit.map(|_| Instant::now())
+            }
+        };
+        if let (Some(now), Some((start, limit))) = (now, self.limit)
+            && now.saturating_duration_since(start) > limit
+        {
+            let limit = limit.as_secs_f64();
+            return Some(RunOutcome {
+                steps: k,
+                error: Some(RunError::TimeLimit { step: k, t, limit }),
+            });
+        }
         observer
             .progress(k, t)
             .is_break()
