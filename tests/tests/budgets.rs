@@ -88,7 +88,7 @@ async fn a_check_waits_its_turn_then_is_told_the_server_is_busy() {
         let state = state.clone();
         async move {
             state
-                .check(move || {
+                .check(move |_| {
                     let _ = started_tx.send(());
                     let _ = release.recv();
                     Ok(())
@@ -98,12 +98,12 @@ async fn a_check_waits_its_turn_then_is_told_the_server_is_busy() {
     });
     started.await.unwrap();
     let start = Instant::now();
-    let refused = state.check(|| Ok(())).await.unwrap_err();
+    let refused = state.check(|_| Ok(())).await.unwrap_err();
     assert_eq!(refused.status, 503);
     assert!(start.elapsed() >= nhlab_server::state::CHECK_WAIT, "it waited for a turn first");
     hold.send(()).unwrap();
     busy.await.unwrap().unwrap();
-    state.check(|| Ok(())).await.expect("a free turn");
+    state.check(|_| Ok(())).await.expect("a free turn");
 }
 
 #[tokio::test]
