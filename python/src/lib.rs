@@ -40,8 +40,14 @@ fn served() -> Served {
         return s.clone();
     }
     // In-process, the caller's threads are the clients: enough simulation slots for a thread
-    // pool's worth of concurrent calls; the other limits are the server's.
-    let config = Config { max_simulations: 64, ..Config::default() };
+    // pool's worth of concurrent calls. The CPU a call may take is the caller's own to spend
+    // (Ctrl-C stops it), so no price or time cap; the other limits are the server's.
+    let config = Config {
+        max_simulations: 64,
+        max_request_seconds: f64::INFINITY,
+        max_run_seconds: f64::INFINITY,
+        ..Config::default()
+    };
     let cores = std::thread::available_parallelism().map_or(2, std::num::NonZeroUsize::get);
     let blocking = config.max_simulations * (config.max_methods.max(cores) + 2) + 4;
     let runtime = tokio::runtime::Builder::new_multi_thread()
