@@ -201,6 +201,7 @@ impl Progress {
         self.call(k, t, observer)
     }
 
+    /// The progress call itself, out of line: the loop keeps only the compare above.
     #[inline(never)]
     fn call(&mut self, k: u64, t: f64, observer: &mut dyn Observer) -> Option<RunOutcome> {
         let now = match &mut self.pace {
