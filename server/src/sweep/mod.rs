@@ -8,8 +8,10 @@
 //! - [`plan`]: the request checked into its cells ([`Sweep`]);
 //! - [`work`]: computing cells, a worker's loop;
 //! - [`csv`]: rows as CSV;
+//! - [`answer`]: `POST /sweep`'s JSON or CSV answer, written as the cells complete;
 //! - [`shards`]: shard files, their resumption and their merge.
 
+pub mod answer;
 pub mod axis;
 pub mod csv;
 pub mod plan;
