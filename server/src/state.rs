@@ -98,6 +98,11 @@ impl AppState {
         (self.budget.used(), self.budget.limit())
     }
 
+    /// The most bytes the answers in flight have held at once since the server started.
+    pub fn answers_peak(&self) -> u64 {
+        self.budget.peak()
+    }
+
     /// Checks a request with `check` (which may compute: a latitude axis, a system's
     /// compilation) on the blocking pool, at most `max_simulations` at once: a flood of
     /// requests cannot take more threads or cores for checking than simulations have. Waits

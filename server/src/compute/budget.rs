@@ -3,11 +3,14 @@
 //! Every limit of a request is checked alone (points, methods, scenes), but what it holds is
 //! their product: each series keeps its buckets for its verdict, a JSON answer also turns them
 //! into columns and text. [`answer_bytes`] estimates that from the request alone, before any
-//! work; a request over `max_answer_bytes` is refused (422, with the estimate). Admitted
-//! requests reserve their estimate in the server-wide [`AnswerBudget`] until their answer is
-//! written or dropped (a [`BudgetGuard`] is owned by the answer's buffer, or by the stream's
-//! body, so an answer a slow client has not read yet still counts); one that would exceed it
-//! gets 503.
+//! work (a sweep, whose rows are written into its answer as its cells complete, counts their
+//! text and its checked cells); a request over `max_answer_bytes` is refused (422, with the
+//! estimate). Admitted requests reserve their estimate in the server-wide [`AnswerBudget`]
+//! until their answer is written or dropped (a [`BudgetGuard`] is owned by the answer's
+//! buffer, or by the stream's body, so an answer a slow client has not read yet still
+//! counts); one that would exceed it gets 503. The estimates are meant as the memory the
+//! answers take, not a bound far above it: peak RSS over them is measured by
+//! `bench/memory.py`, the heap over them checked by the `answer_memory` test.
 
 use crate::error::AppError;
 use std::sync::Arc;
@@ -40,17 +43,24 @@ pub fn mib(bytes: u64) -> String {
 pub struct AnswerBudget {
     limit: u64,
     used: Arc<AtomicU64>,
+    /// The most `used` has been.
+    peak: Arc<AtomicU64>,
 }
 
 impl AnswerBudget {
     /// A budget of `limit` bytes.
     pub fn new(limit: u64) -> Self {
-        Self { limit, used: Arc::default() }
+        Self { limit, used: Arc::default(), peak: Arc::default() }
     }
 
     /// Bytes reserved right now.
     pub fn used(&self) -> u64 {
         self.used.load(Ordering::SeqCst)
+    }
+
+    /// The most bytes reserved at once since the budget was made.
+    pub fn peak(&self) -> u64 {
+        self.peak.load(Ordering::SeqCst)
     }
 
     /// The limit, in bytes.
@@ -61,7 +71,8 @@ impl AnswerBudget {
     /// Reserves `bytes` until the guard is dropped, or a 503 when they do not fit beside the
     /// answers in flight.
     pub fn reserve(&self, bytes: u64) -> Result<BudgetGuard, AppError> {
-        self.used
+        let before = self
+            .used
             .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |used| {
                 used.checked_add(bytes).filter(|&total| total <= self.limit)
             })
@@ -74,6 +85,7 @@ impl AnswerBudget {
                     mib(self.limit)
                 ))
             })?;
+        self.peak.fetch_max(before + bytes, Ordering::SeqCst);
         Ok(BudgetGuard { bytes, used: self.used.clone() })
     }
 }
@@ -106,6 +118,7 @@ mod tests {
         assert_eq!(budget.used(), 40);
         drop(b);
         assert_eq!(budget.used(), 0);
+        assert_eq!(budget.peak(), 100, "the most held at once stays");
         assert!(budget.reserve(101).is_err(), "alone over the limit");
         assert_eq!(answer_bytes(u64::MAX, 2, 3), u64::MAX, "saturates");
     }

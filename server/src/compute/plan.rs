@@ -118,7 +118,8 @@ impl Plan {
             Delivery::JsonOnly => None,
         };
         if let Some(per_point) = bytes_per_point {
-            check_answer_bytes(plan.held_bytes(per_point), config, "")?;
+            let what = " (series × points × bytes per point)";
+            check_answer_bytes(plan.held_bytes(per_point), config, what)?;
         }
         Ok(plan)
     }
@@ -150,7 +151,7 @@ pub fn priced(scene: &Scene, m: &Method, runs: f64) -> Priced {
 }
 
 /// Refuses a request whose answer would hold more than `max_answer_bytes` (422 at `points`,
-/// the field that scales it most simply); `what` says whose answer it is, if not one scene's.
+/// the field that scales it most simply); `what` says what the estimate counts.
 pub fn check_answer_bytes(bytes: u64, config: &Config, what: &str) -> Result<(), AppError> {
     if bytes <= config.max_answer_bytes {
         return Ok(());
@@ -158,9 +159,8 @@ pub fn check_answer_bytes(bytes: u64, config: &Config, what: &str) -> Result<(),
     Err(AppError::invalid(
         "points",
         format!(
-            "the answer{what} would hold about {} (series × points × bytes per point), over \
-             the limit of {} per request (max_answer_bytes); ask for fewer points, methods, \
-             integrals or scenes",
+            "the answer{what} would hold about {}, over the limit of {} per request \
+             (max_answer_bytes); ask for fewer points, methods, integrals, scenes or cells",
             mib(bytes),
             mib(config.max_answer_bytes)
         ),

@@ -18,6 +18,7 @@ pub async fn health(State(state): State<AppState>) -> Json<Health> {
         max_simulations: state.config.max_simulations,
         active_runs: state.active_runs(),
         answer_bytes,
+        answer_bytes_peak: state.answers_peak(),
         max_inflight_bytes,
         cache: state.caches.stats(),
     })

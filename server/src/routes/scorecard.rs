@@ -88,8 +88,9 @@ fn all_methods() -> Vec<MethodRequest> {
         .collect()
 }
 
-/// The checked scenes, and the bytes their runs will hold (their series, kept for the
-/// verdicts).
+/// The checked scenes, and the bytes their runs will hold at once: the series of one
+/// scene's runs, kept for their verdicts (the scenes run one after another, and a scene's
+/// series are dropped once judged; what the answer keeps of them, the verdicts, is small).
 fn plans(req: &ScorecardRequest, state: &AppState) -> Result<(Vec<Plan>, u64), AppError> {
     let scenes = match &req.scenes {
         None => PAPER_SCENES
@@ -135,8 +136,10 @@ fn plans(req: &ScorecardRequest, state: &AppState) -> Result<(Vec<Plan>, u64), A
             )
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let held = plans.iter().map(|p| p.held_bytes(KEPT_BYTES_PER_POINT)).sum();
-    check_answer_bytes(held, &state.config, " (its runs' series, kept for the verdicts)")?;
+    let held = plans.iter().map(|p| p.held_bytes(KEPT_BYTES_PER_POINT)).max().unwrap_or(0);
+    let what = " (a scene's runs' series, kept for their verdicts: series × points × bytes \
+                per point)";
+    check_answer_bytes(held, &state.config, what)?;
     let mut priced = Vec::new();
     for plan in &plans {
         priced.extend(plan.priced());

@@ -1,20 +1,20 @@
 //! [`sweep`]: the `POST /sweep` handler. The request is checked into its cells
 //! ([`Sweep::check`]) off the runtime, admitted as one simulation, and computed by one worker
 //! per core on the blocking pool, each taking the next cell until none is left. The answer is
-//! one JSON document (the rows by cell, then method), CSV (`Accept: text/csv`) or a stream
+//! one JSON document (the rows by cell, then method), CSV (`Accept: text/csv`), both written
+//! into the answer as the cells complete ([`answer`](crate::sweep::answer)), or a stream
 //! (`Accept: text/event-stream`: `start`, a `cell` event as each cell completes, `progress`,
 //! `done`). When the client goes away the workers stop within a cell's current run.
 
-use crate::compute::{
-    BudgetGuard, Cancel, Delivery, Slot, lower_priority, millis, off_runtime, time_limit,
-};
+use crate::compute::{BudgetGuard, Cancel, Delivery, Slot, lower_priority, millis, time_limit};
 use crate::error::{AppError, ErrorBody};
 use crate::json_object::JsonObject;
 use crate::observers::sse_event;
 use crate::request::SweepRequest;
 use crate::routes::simulate::{Answer, wants_stream};
 use crate::state::AppState;
-use crate::sweep::{Sweep, csv};
+use crate::sweep::Sweep;
+use crate::sweep::answer::{AnswerBody, Encoder, Format};
 use crate::views::{RowStatus, ShutdownEvent, SweepCell, SweepDone, SweepProgress, SweepResponse};
 use axum::body::{Body, Bytes};
 use axum::extract::State;
@@ -80,35 +80,28 @@ pub async fn sweep(
     let summary =
         format!("sweep cells={} rows={rows} steps={}", sweep.cells.len(), sweep.total_steps);
     tracing::Span::current().record("scene", summary.as_str());
-    let held = match delivery {
-        Delivery::Stream => sweep.head.methods.len() as u64 * sweep.row_bytes(),
-        _ => rows as u64 * sweep.row_bytes(),
-    };
-    let (slot, budget) = state.admit(held)?;
+    let (slot, budget) = state.admit(sweep.held_bytes(delivery))?;
     let cancel = Cancel::default();
     let on_drop = cancel.on_drop();
-    let rx = start(&state, &sweep, slot.clone(), &cancel);
     if delivery == Delivery::Stream {
+        let rx = start(&state, &sweep, slot, &cancel, |cell| cell);
         return Ok(stream(state, sweep, rx, cancel, on_drop, budget));
     }
-    let cells = collect(sweep.cells.len(), rx).await;
-    let answer = off_runtime(move || {
-        let (_slot, _on_drop) = (slot, on_drop);
-        let cells = cells?;
-        let rows: Vec<_> = cells.into_iter().flat_map(|c| c.rows).collect();
-        let body = if csv {
-            // A row at a time into JSON values, for the same columns as merged shard files.
-            let values = rows.iter().map(|r| serde_json::to_value(r).unwrap_or_default());
-            let axes: Vec<String> = sweep.head.axes.iter().map(|a| a.path.clone()).collect();
-            csv::write(&axes, &sweep.head.integrals, values).into_bytes()
-        } else {
-            let response = SweepResponse { head: sweep.head.clone(), rows };
-            serde_json::to_vec(&response)
-                .map_err(|e| AppError::internal(format!("internal error: writing JSON: {e}")))?
-        };
-        Ok(Answer { body, _budget: budget })
-    })
-    .await?;
+    // Each cell's rows are encoded by the worker that computed them and written into the
+    // answer in cell order as they arrive: the rows are never all held.
+    let format = if csv { Format::Csv } else { Format::Json };
+    let encoder = Encoder::new(&sweep.head, format);
+    let capacity = usize::try_from(sweep.answer_bytes()).unwrap_or(usize::MAX);
+    let mut body = AnswerBody::new(&sweep.head, format, capacity)?;
+    let mut rx = start(&state, &sweep, slot.clone(), &cancel, move |cell| {
+        let text = encoder.cell(&cell);
+        (cell.cell, text)
+    });
+    while let Some((c, text)) = rx.recv().await {
+        body.push(c, text?);
+    }
+    let answer = Answer { body: body.finish(sweep.cells.len())?, _budget: budget };
+    drop((slot, on_drop));
     let kind = if csv { "text/csv; charset=utf-8" } else { "application/json" };
     Ok(([(header::CONTENT_TYPE, kind)], Body::from(Bytes::from_owner(answer))).into_response())
 }
@@ -128,13 +121,15 @@ fn wants_csv(headers: &HeaderMap) -> bool {
 }
 
 /// Starts one worker per core (at most one per cell) on the blocking pool; each holds the
-/// slot until it ends. The cells arrive on the returned channel as they complete.
-fn start(
+/// slot until it ends. The cells arrive on the returned channel as they complete, each as
+/// `encode` makes it (by the worker: encoding is CPU work too).
+fn start<T: Send + 'static>(
     state: &AppState,
     sweep: &Arc<Sweep>,
     slot: Slot,
     cancel: &Cancel,
-) -> mpsc::Receiver<SweepCell> {
+    encode: impl Fn(SweepCell) -> T + Clone + Send + 'static,
+) -> mpsc::Receiver<T> {
     let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
     let workers = cores.min(sweep.cells.len()).max(1);
     let (tx, rx) = mpsc::channel(2 * workers);
@@ -142,34 +137,26 @@ fn start(
     let next = Arc::new(AtomicUsize::new(0));
     let limit = time_limit(&state.config);
     for _ in 0..workers {
-        let (sweep, order, next, cancel, tx) =
-            (sweep.clone(), order.clone(), next.clone(), cancel.clone(), tx.clone());
+        let (sweep, order, next, cancel, tx, encode) = (
+            sweep.clone(),
+            order.clone(),
+            next.clone(),
+            cancel.clone(),
+            tx.clone(),
+            encode.clone(),
+        );
         let (guard, slot, caches) = (state.run_guard(), slot.clone(), state.caches.clone());
         tokio::task::spawn_blocking(move || {
             let (_guard, _slot) = (guard, slot);
             lower_priority();
             let axis = |scene: &nhlab_core::Scene| caches.latitude(scene);
             let limits = (&cancel, Some(limit));
-            sweep.work(&order, &next, limits, &axis, &mut |cell| tx.blocking_send(cell).is_ok());
+            sweep.work(&order, &next, limits, &axis, &mut |cell| {
+                tx.blocking_send(encode(cell)).is_ok()
+            });
         });
     }
     rx
-}
-
-/// Every cell, by index, once the workers are done; an error if one is missing (a worker
-/// stopped: the sweep was cancelled or a worker was lost).
-async fn collect(
-    cells: usize,
-    mut rx: mpsc::Receiver<SweepCell>,
-) -> Result<Vec<SweepCell>, AppError> {
-    let mut out: Vec<Option<SweepCell>> = (0..cells).map(|_| None).collect();
-    while let Some(cell) = rx.recv().await {
-        let c = cell.cell;
-        out[c] = Some(cell);
-    }
-    out.into_iter()
-        .collect::<Option<Vec<_>>>()
-        .ok_or_else(|| AppError::internal("internal error: a sweep's cell was not computed"))
 }
 
 /// The stream: `start`, then each cell as it completes, `progress` every

@@ -3,7 +3,9 @@
 //! `<integral>.kind`, `.max`, `.early`, `.late`, `.ratio`, a gap's start in
 //! `<integral>.gap_since` (empty without one), the method's label under `method` and the
 //! row's `/simulate` body as JSON text in the last column. Nulls are empty fields.
-//! Rows come as JSON values, so that merged shard files are written by the same code.
+//! Rows come as JSON values, one at a time, so that merged shard files are written by the same
+//! code: the server's answer writes each cell's rows as the cell completes ([`header`], then
+//! [`write_row`]), [`write`] all of a merge's.
 
 use serde_json::Value;
 use std::fmt::Write;
@@ -12,6 +14,15 @@ const VERDICT: [&str; 5] = ["kind", "max", "early", "late", "ratio"];
 
 /// The CSV text of `rows` of a sweep over `axes` (paths) measuring `integrals`.
 pub fn write(axes: &[String], integrals: &[String], rows: impl Iterator<Item = Value>) -> String {
+    let mut out = header(axes, integrals);
+    for row in rows {
+        write_row(&mut out, axes, integrals, &row);
+    }
+    out
+}
+
+/// The header line of a sweep over `axes` (paths) measuring `integrals`.
+pub fn header(axes: &[String], integrals: &[String]) -> String {
     let mut out = String::new();
     let mut header: Vec<String> = vec!["cell".into()];
     header.extend(axes.iter().cloned());
@@ -25,25 +36,26 @@ pub fn write(axes: &[String], integrals: &[String], rows: impl Iterator<Item = V
     }
     header.push("simulate".into());
     line(&mut out, header.iter().map(|h| field(h)));
-    for row in rows {
-        let row = &row;
-        let mut fields = vec![scalar(&row["cell"])];
-        let values = row["values"].as_array().map(Vec::as_slice).unwrap_or_default();
-        fields.extend((0..axes.len()).map(|k| values.get(k).map_or(String::new(), scalar)));
-        fields.push(scalar(&row["method_index"]));
-        fields.push(scalar(&row["method"]["label"]));
-        for key in ["status", "error", "steps", "cpu_ms", "newton_iterations"] {
-            fields.push(scalar(&row[key]));
-        }
-        for i in integrals {
-            let verdict = &row["verdicts"][i.as_str()];
-            fields.extend(VERDICT.iter().map(|f| scalar(&verdict[*f])));
-            fields.push(scalar(&row["gaps"][i.as_str()]["since"]));
-        }
-        fields.push(row["simulate"].to_string());
-        line(&mut out, fields.iter().map(|f| field(f)));
-    }
     out
+}
+
+/// Appends the line of one row (a JSON row, as the answer gives it) to `out`.
+pub fn write_row(out: &mut String, axes: &[String], integrals: &[String], row: &Value) {
+    let mut fields = vec![scalar(&row["cell"])];
+    let values = row["values"].as_array().map(Vec::as_slice).unwrap_or_default();
+    fields.extend((0..axes.len()).map(|k| values.get(k).map_or(String::new(), scalar)));
+    fields.push(scalar(&row["method_index"]));
+    fields.push(scalar(&row["method"]["label"]));
+    for key in ["status", "error", "steps", "cpu_ms", "newton_iterations"] {
+        fields.push(scalar(&row[key]));
+    }
+    for i in integrals {
+        let verdict = &row["verdicts"][i.as_str()];
+        fields.extend(VERDICT.iter().map(|f| scalar(&verdict[*f])));
+        fields.push(scalar(&row["gaps"][i.as_str()]["since"]));
+    }
+    fields.push(row["simulate"].to_string());
+    line(out, fields.iter().map(|f| field(f)));
 }
 
 /// A JSON scalar as text: strings bare, numbers as JSON writes them, null (or absent) empty.

@@ -9,8 +9,10 @@
 //! - [`price`]: its work priced before admission;
 //! - [`work`]: computing cells, a worker's loop;
 //! - [`csv`]: rows as CSV;
+//! - [`answer`]: `POST /sweep`'s JSON or CSV answer, written as the cells complete;
 //! - [`shards`]: shard files, their resumption and their merge.
 
+pub mod answer;
 pub mod axis;
 pub mod csv;
 pub mod plan;

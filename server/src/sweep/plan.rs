@@ -18,6 +18,7 @@ use crate::sweep::axis::{Axis, Target, has_param};
 use crate::views::{AxisView, CRITERION, MethodView, SweepHead};
 use nhlab_core::measure::latitude::LatitudeAxis;
 use nhlab_core::{CompiledSystems, InputError, Method, PreparedScene, Scene, Short};
+use std::sync::Arc;
 
 /// Where a sweep's latitude axes come from (a server's cache, or computed).
 pub type AxisSource<'a> = &'a (dyn Fn(&Scene) -> Result<LatitudeAxis, InputError> + Sync);
@@ -56,8 +57,48 @@ pub struct Cell {
     pub values: Vec<f64>,
     /// The scene, or why the cell's values make it invalid (`field: reason`).
     pub scene: Result<Scene, String>,
-    /// Each method as requested for this cell, and as resolved (or why not).
-    pub methods: Vec<(MethodRequest, Result<Method, String>)>,
+    /// Each method as requested for this cell, and as resolved (or why not): one list that
+    /// every cell shares when no axis sets a method's parameter.
+    pub methods: Arc<[(MethodRequest, Result<Method, String>)]>,
+}
+
+impl Cell {
+    /// About how many bytes the cell holds: its place in the sweep's list, and each block
+    /// it owns as the allocator counts it ([`block`]). Not counted: a method list the cells
+    /// share (a kilobyte or so, once), and the compiled code of a system given as formulas,
+    /// which the cells share too unless an axis sets its parameters (each cell then compiles
+    /// its own: the check's cost, before any answer).
+    pub fn heap_bytes(&self) -> u64 {
+        let floats = |n: usize| block(8 * n);
+        let string = |s: &String| block(s.capacity());
+        let scene = match &self.scene {
+            // q and v twice: also as the system's code holds them.
+            Ok(s) => {
+                floats(s.params.capacity()) + 2 * (floats(s.q.capacity()) + floats(s.v.capacity()))
+            }
+            Err(e) => string(e),
+        };
+        let each = self.methods.iter().map(|(request, resolved)| {
+            let params = block(request.params.capacity() * size_of::<(String, f64)>())
+                + request.params.iter().map(|(name, _)| string(name)).sum::<u64>();
+            let error = resolved.as_ref().err().map_or(0, string);
+            string(&request.id) + params + request.composition.as_ref().map_or(0, string) + error
+        });
+        // A list the cells share is not the cell's.
+        let methods = if Arc::strong_count(&self.methods) > 1 {
+            0
+        } else {
+            block(16 + self.methods.len() * size_of::<(MethodRequest, Result<Method, String>)>())
+                + each.sum::<u64>()
+        };
+        size_of::<Cell>() as u64 + floats(self.values.capacity()) + scene + methods
+    }
+}
+
+/// What a block of `bytes` takes from the allocator: a word of header, rounded up to 16 bytes,
+/// 32 at least (glibc's malloc); none for nothing.
+fn block(bytes: usize) -> u64 {
+    if bytes == 0 { 0 } else { (bytes as u64 + 8).next_multiple_of(16).max(32) }
 }
 
 impl Sweep {
@@ -130,6 +171,9 @@ impl Sweep {
         }
         let body = req.to_simulate(None, req.points);
         let method_axes = axes.iter().any(|a| matches!(a.target, Target::Method { .. }));
+        // Without a method axis every cell runs the request's methods: one list for all.
+        let shared: Arc<[_]> =
+            requests.iter().cloned().zip(base_methods.iter().map(|m| Ok(*m))).collect();
         let n = cells as usize;
         let cell = |c: usize| {
             let values = cell_values(&axes, c);
@@ -137,19 +181,19 @@ impl Sweep {
             for (a, &x) in axes.iter().zip(&values) {
                 a.apply(x, &mut body, &mut requests, &q0, &v0);
             }
-            let methods: Vec<(MethodRequest, Result<Method, String>)> = requests
-                .into_iter()
-                .enumerate()
-                .map(|(i, m)| {
-                    let resolved = if method_axes {
-                        method(i, &m)
-                            .map_err(|e| format!("{}: {}", e.path.unwrap_or_default(), e.message))
-                    } else {
-                        Ok(base_methods[i])
-                    };
-                    (m, resolved)
-                })
-                .collect();
+            let methods: Arc<[(MethodRequest, Result<Method, String>)]> = if method_axes {
+                requests
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, m)| {
+                        let resolved = method(i, &m)
+                            .map_err(|e| format!("{}: {}", e.path.unwrap_or_default(), e.message));
+                        (m, resolved)
+                    })
+                    .collect()
+            } else {
+                shared.clone()
+            };
             (values, body, methods)
         };
         // First what needs no compiling: the steps of every run.
@@ -232,8 +276,8 @@ impl Sweep {
         let base = (body, q0, v0);
         let sweep = Self { head, axes, points, integrals, cells: out, total_steps, base };
         if delivery != Delivery::Stream {
-            let rows = (sweep.cells.len() * sweep.head.methods.len()) as u64;
-            check_answer_bytes(rows.saturating_mul(sweep.row_bytes()), config, " (its rows)")?;
+            let what = " (its rows as text and its checked cells)";
+            check_answer_bytes(sweep.held_bytes(delivery), config, what)?;
         }
         Ok(sweep)
     }
@@ -246,6 +290,29 @@ impl Sweep {
             a.apply(x, &mut body, &mut [], q0, v0);
         }
         body
+    }
+
+    /// What the sweep holds at the peak of its answer: its checked cells, and the text of
+    /// its rows ([`Sweep::answer_bytes`]) for a JSON or CSV answer, written as the cells
+    /// complete; a stream holds a cell's rows at a time.
+    pub fn held_bytes(&self, delivery: Delivery) -> u64 {
+        let text = match delivery {
+            Delivery::Stream => self.head.methods.len() as u64 * self.row_bytes(),
+            Delivery::Json | Delivery::JsonOnly => self.answer_bytes(),
+        };
+        text.saturating_add((self.cells.len() as u64).saturating_mul(self.cell_bytes()))
+    }
+
+    /// About how many bytes the JSON answer takes (its CSV takes less): rows × row bytes.
+    pub fn answer_bytes(&self) -> u64 {
+        let rows = (self.cells.len() * self.head.methods.len()) as u64;
+        rows.saturating_mul(self.row_bytes())
+    }
+
+    /// About how many bytes a checked cell holds: its scene and each method's request and
+    /// resolution, as the first cell holds them.
+    pub fn cell_bytes(&self) -> u64 {
+        self.cells.first().map_or(0, Cell::heap_bytes)
     }
 
     /// About how many bytes a row takes as JSON.

@@ -18,6 +18,8 @@ pub struct Health {
     /// Bytes the answers in flight hold (their estimates, reserved from admission until the
     /// answer is written or dropped).
     pub answer_bytes: u64,
+    /// The most bytes the answers in flight have held at once since the server started.
+    pub answer_bytes_peak: u64,
     /// Most bytes the answers in flight may hold together; beyond, 503.
     pub max_inflight_bytes: u64,
     /// Hits, misses and entries of the latitude-axis and reference caches.
