@@ -1,7 +1,8 @@
-//! [`Function`]: a compiled tape with, where the host allows, its machine code
-//! ([`Jitted`]): the fast path, run when present; the tape is the general path, kept to
-//! fall back on and to test the fast one against.
+//! [`Function`]: a compiled tape with, where the build and the host allow, its machine code
+//! (`Jitted`, cargo feature `jit`): the fast path, run when present; the tape is the general
+//! path, kept to fall back on and to test the fast one against.
 
+#[cfg(feature = "jit")]
 use super::jit::Jitted;
 use super::tape::Tape;
 use std::mem::MaybeUninit;
@@ -13,22 +14,40 @@ pub const MAX_NATIVE: usize = 4096;
 #[derive(Debug)]
 pub struct Function {
     tape: Tape,
+    #[cfg(feature = "jit")]
     native: Option<Jitted>,
 }
 
 impl Function {
-    /// `tape`, compiled to machine code too when `native`, the host supports it and the tape
-    /// has at most [`MAX_NATIVE`] instructions (compiling takes time in their number, and a
-    /// tape that long is dominated by its own arithmetic anyway).
+    /// `tape`, compiled to machine code too when `native`, the JIT is built in, the host
+    /// supports it and the tape has at most [`MAX_NATIVE`] instructions (compiling takes
+    /// time in their number, and a tape that long is dominated by its own arithmetic
+    /// anyway). Cranelift's failure is recorded ([`super::native_code_status`]), not
+    /// returned: the tape runs instead.
+    #[cfg(feature = "jit")]
     pub fn new(tape: Tape, native: bool) -> Self {
         let native = native && tape.len() <= MAX_NATIVE;
-        let native = if native { Jitted::compile(&tape).ok() } else { None };
+        let native = if native { super::native::compile(&tape) } else { None };
         Self { tape, native }
     }
 
+    /// `tape`, interpreted: the JIT is not built in, so `native` is not heeded.
+    #[cfg(not(feature = "jit"))]
+    pub fn new(tape: Tape, native: bool) -> Self {
+        let _ = native;
+        Self { tape }
+    }
+
     /// Whether machine code runs.
+    #[cfg(feature = "jit")]
     pub fn is_native(&self) -> bool {
         self.native.is_some()
+    }
+
+    /// Whether machine code runs: never, the JIT is not built in.
+    #[cfg(not(feature = "jit"))]
+    pub fn is_native(&self) -> bool {
+        false
     }
 
     /// The tape.
@@ -44,20 +63,22 @@ impl Function {
     /// The outputs at `vars` into `out`.
     #[inline]
     pub fn eval(&self, vars: &[f64], out: &mut [f64]) {
-        match &self.native {
-            Some(code) => code.eval(vars, out),
-            None => self.tape.eval(vars, out),
+        #[cfg(feature = "jit")]
+        if let Some(code) = &self.native {
+            return code.eval(vars, out);
         }
+        self.tape.eval(vars, out);
     }
 
     /// [`eval`](Self::eval) into memory that need not be initialized (at least
     /// [`outputs`](Self::outputs) long); the outputs, written.
     #[inline]
     pub fn eval_uninit<'a>(&self, vars: &[f64], out: &'a mut [MaybeUninit<f64>]) -> &'a [f64] {
-        match &self.native {
-            Some(code) => code.eval_uninit(vars, out),
-            None => self.interpreted_uninit(vars, out),
+        #[cfg(feature = "jit")]
+        if let Some(code) = &self.native {
+            return code.eval_uninit(vars, out);
         }
+        self.interpreted_uninit(vars, out)
     }
 
     /// [`eval_uninit`](Self::eval_uninit) by the interpreter.
@@ -75,9 +96,10 @@ impl Function {
     /// [`eval`](Self::eval), the tape (if it runs) with the caller's slots.
     #[inline]
     pub fn eval_with(&self, vars: &[f64], slots: &mut Vec<f64>, out: &mut [f64]) {
-        match &self.native {
-            Some(code) => code.eval(vars, out),
-            None => self.tape.eval_with(vars, slots, out),
+        #[cfg(feature = "jit")]
+        if let Some(code) = &self.native {
+            return code.eval(vars, out);
         }
+        self.tape.eval_with(vars, slots, out);
     }
 }
