@@ -61,9 +61,10 @@ pub use routes::systems::systems;
 pub use routes::work_precision::work_precision;
 pub use state::AppState;
 pub use views::{
-    CRITERION, CacheStats, CachesStats, Health, LimitsView, MethodInfoView, MethodView, PaperScene,
-    ParamView, PresetView, RunSummary, RunView, SceneView, ScorecardResponse, SeriesView,
-    SimulateResponse, Status, SystemView, SystemsResponse, VerdictView, WorkPrecisionResponse,
+    CRITERION, CacheStats, CachesStats, FormulasHealth, Health, LimitsView, MethodInfoView,
+    MethodView, PaperScene, ParamView, PresetView, RunSummary, RunView, SceneView,
+    ScorecardResponse, SeriesView, SimulateResponse, Status, SystemView, SystemsResponse,
+    VerdictView, WorkPrecisionResponse,
 };
 
 use axum::Router;

@@ -257,6 +257,10 @@ fn main() -> std::process::ExitCode {
         .with_ansi(std::io::stderr().is_terminal())
         .init();
     let args = Args::parse();
+    // Formulas that fall back to the interpreter give the same numbers, slower: said once
+    // per process, now if the JIT is not built in or fails on a small formula tried here,
+    // else at Cranelift's first failure. `GET /health` says it too.
+    nhlab_core::formula::on_interpreter_fallback(|why| tracing::warn!("{why}"));
     if let Some(Command::Sweep(sweep)) = &args.command {
         return sweep_command(sweep);
     }

@@ -28,6 +28,14 @@ async fn health() {
     let body: Value = response.json().await.unwrap();
     assert_eq!(body["status"], "ok");
     assert_eq!(body["active_runs"], 0);
+    // Formulas run as machine code exactly when the server is built with the JIT; otherwise
+    // the answer says why.
+    let formulas = &body["formulas"];
+    assert_eq!(formulas["native"], cfg!(feature = "jit"), "{formulas}");
+    assert_eq!(formulas["why"].is_null(), cfg!(feature = "jit"), "{formulas}");
+    if !cfg!(feature = "jit") {
+        assert!(formulas["why"].as_str().unwrap().contains("`jit` feature"), "{formulas}");
+    }
 }
 
 #[tokio::test]

@@ -293,4 +293,5 @@ async fn openapi_documents_work_precision() {
     }
     assert_eq!(schemas["WorkPrecisionRequest"]["properties"]["steps"]["maxItems"], 12);
     assert!(schemas["Health"]["properties"]["cache"].is_object(), "{}", schemas["Health"]);
+    assert!(schemas["Health"]["properties"]["formulas"].is_object(), "{}", schemas["Health"]);
 }

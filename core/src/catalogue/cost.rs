@@ -257,7 +257,12 @@ mod tests {
         let interpreted = step_ns(&bowl(60, false).system, &dla);
         assert!(small > built_in_ns(&dla), "{small}");
         assert!(large > 10.0 * (small - built_in_ns(&dla)), "{small} {large}");
-        assert!(interpreted > 2.0 * large, "{large} {interpreted}");
+        // Without the JIT built in, both run on the interpreter and cost the same.
+        if cfg!(feature = "jit") {
+            assert!(interpreted > 2.0 * large, "{large} {interpreted}");
+        } else {
+            assert_eq!(interpreted, large);
+        }
         // An explicit step evaluates no Hessian and fewer gradients than Newton's.
         let lf = step_ns(&bowl(60, true).system, &method("leapfrog", None));
         assert!(lf < large / 2.0, "{lf} {large}");

@@ -1,5 +1,6 @@
 //! [`FormulaError`]: what is wrong with a formula, and where; [`Limits`]: the bounds a
-//! formula must stay within.
+//! formula must stay within; [`JitError`]: why a formula could not be compiled to machine
+//! code (it then runs on the interpreter: nothing a user wrote is wrong).
 
 use thiserror::Error;
 
@@ -104,4 +105,23 @@ pub enum FormulaError {
         /// The limit.
         limit: usize,
     },
+}
+
+/// Why Cranelift could not compile a tape to machine code (`Jitted::compile`, with the
+/// cargo feature `jit`). Not the user's fault: the tape's interpreter runs the formula
+/// instead, and [`native_code_status`](super::native_code_status) keeps the first of these.
+/// Cranelift's own errors are kept as their messages, so that the record can be cloned and
+/// compared.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum JitError {
+    /// Cranelift does not support this host (its instruction set, or its flags).
+    #[error("Cranelift does not support this host: {0}")]
+    Host(String),
+    /// A tape that breaks its own invariants (a slot read before it is written, a function
+    /// outside [`Func::ALL`](super::Func::ALL)): a bug of the tape's compiler.
+    #[error("a malformed tape: {0}")]
+    Tape(&'static str),
+    /// Cranelift failed on the code or could not map it executable.
+    #[error("Cranelift could not compile the code: {0}")]
+    Compile(String),
 }

@@ -1,5 +1,5 @@
-//! [`Function`]: a compiled tape with, where the host allows, its machine code
-//! ([`Jitted`]): the fast path, run when present; the tape is the general path, kept to
+//! [`Function`]: a compiled tape with, where the build and the host allow, its machine code
+//! (`Jitted`, cargo feature `jit`): the fast path, run when present; the tape is the general path, kept to
 //! fall back on and to test the fast one against.
 //!
 //! A system's parameters are usually constants folded into its code. Where one compilation
@@ -8,6 +8,7 @@
 //! set of values ([`Function::bind`]), which it appends to the caller's variables at each
 //! evaluation. Bound copies share the tape and the machine code.
 
+#[cfg(feature = "jit")]
 use super::jit::Jitted;
 use super::tape::Tape;
 use std::mem::MaybeUninit;
@@ -34,17 +35,28 @@ pub struct Function {
 #[derive(Debug)]
 struct Code {
     tape: Tape,
+    #[cfg(feature = "jit")]
     native: Option<Jitted>,
 }
 
 impl Function {
-    /// `tape`, compiled to machine code too when `native`, the host supports it and the tape
-    /// has at most [`MAX_NATIVE`] instructions (compiling takes time in their number, and a
-    /// tape that long is dominated by its own arithmetic anyway).
+    /// `tape`, compiled to machine code too when `native`, the JIT is built in, the host
+    /// supports it and the tape has at most [`MAX_NATIVE`] instructions (compiling takes
+    /// time in their number, and a tape that long is dominated by its own arithmetic
+    /// anyway). Cranelift's failure is recorded ([`super::native_code_status`]), not
+    /// returned: the tape runs instead.
+    #[cfg(feature = "jit")]
     pub fn new(tape: Tape, native: bool) -> Self {
         let native = native && tape.len() <= MAX_NATIVE;
-        let native = if native { Jitted::compile(&tape).ok() } else { None };
+        let native = if native { super::native::compile(&tape) } else { None };
         Self { code: Arc::new(Code { tape, native }), params: None }
+    }
+
+    /// `tape`, interpreted: the JIT is not built in, so `native` is not heeded.
+    #[cfg(not(feature = "jit"))]
+    pub fn new(tape: Tape, native: bool) -> Self {
+        let _ = native;
+        Self { code: Arc::new(Code { tape }), params: None }
     }
 
     /// The same code bound to the parameter values `params` (at most [`MAX_PARAM_INPUTS`]),
@@ -54,9 +66,12 @@ impl Function {
         Self { code: self.code.clone(), params: Some(params.clone()) }
     }
 
-    /// Whether machine code runs.
+    /// Whether machine code runs (never without the `jit` feature).
     pub fn is_native(&self) -> bool {
-        self.code.native.is_some()
+        #[cfg(feature = "jit")]
+        return self.code.native.is_some();
+        #[cfg(not(feature = "jit"))]
+        false
     }
 
     /// The tape.
@@ -90,9 +105,12 @@ impl Function {
     /// The outputs at `vars` into `out`.
     #[inline]
     pub fn eval(&self, vars: &[f64], out: &mut [f64]) {
-        self.with_inputs(vars, |vars| match &self.code.native {
-            Some(code) => code.eval(vars, out),
-            None => self.code.tape.eval(vars, out),
+        self.with_inputs(vars, |vars| {
+            #[cfg(feature = "jit")]
+            if let Some(code) = &self.code.native {
+                return code.eval(vars, out);
+            }
+            self.code.tape.eval(vars, out)
         })
     }
 
@@ -100,9 +118,12 @@ impl Function {
     /// [`outputs`](Self::outputs) long); the outputs, written.
     #[inline]
     pub fn eval_uninit<'a>(&self, vars: &[f64], out: &'a mut [MaybeUninit<f64>]) -> &'a [f64] {
-        self.with_inputs(vars, |vars| match &self.code.native {
-            Some(code) => code.eval_uninit(vars, out),
-            None => self.interpreted_uninit(vars, out),
+        self.with_inputs(vars, |vars| {
+            #[cfg(feature = "jit")]
+            if let Some(code) = &self.code.native {
+                return code.eval_uninit(vars, out);
+            }
+            self.interpreted_uninit(vars, out)
         })
     }
 
@@ -121,9 +142,12 @@ impl Function {
     /// [`eval`](Self::eval), the tape (if it runs) with the caller's slots.
     #[inline]
     pub fn eval_with(&self, vars: &[f64], slots: &mut Vec<f64>, out: &mut [f64]) {
-        self.with_inputs(vars, |vars| match &self.code.native {
-            Some(code) => code.eval(vars, out),
-            None => self.code.tape.eval_with(vars, slots, out),
+        self.with_inputs(vars, |vars| {
+            #[cfg(feature = "jit")]
+            if let Some(code) = &self.code.native {
+                return code.eval(vars, out);
+            }
+            self.code.tape.eval_with(vars, slots, out)
         })
     }
 }

@@ -189,18 +189,26 @@ impl Tape {
             .count()
     }
 
+    /// The instructions, in order: what the JIT (`jit.rs`) translates and the cost model
+    /// (`catalogue::cost`) counts.
     pub(crate) fn instructions(&self) -> &[Instr] {
         &self.code
     }
 
+    /// Where each output is read, for the JIT.
+    #[cfg(feature = "jit")]
     pub(crate) fn output_sources(&self) -> &[Out] {
         &self.outputs
     }
 
+    /// Number of slots, for the JIT.
+    #[cfg(feature = "jit")]
     pub(crate) fn slots(&self) -> usize {
         self.slots
     }
 
+    /// Number of variables read, for the JIT.
+    #[cfg(feature = "jit")]
     pub(crate) fn vars(&self) -> usize {
         self.vars
     }

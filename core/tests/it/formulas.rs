@@ -120,9 +120,10 @@ proptest! {
         let tape = Tape::compile(&g, &outputs, 3);
         let mut out = vec![0.0; outputs.len()];
         tape.eval(&p, &mut out);
-        // The machine code computes what the tape does, bit for bit.
+        // The machine code computes what the tape does, bit for bit (without the JIT, both
+        // are the tape: the evaluations into uninitialized memory are still checked).
         let native = Function::new(tape.clone(), true);
-        prop_assert!(native.is_native());
+        prop_assert_eq!(native.is_native(), cfg!(feature = "jit"));
         let mut fast = vec![0.0; outputs.len()];
         native.eval(&p, &mut fast);
         // So do both into uninitialized memory, as the steps call them.
@@ -260,6 +261,7 @@ fn a_constant_powers_derivative_is_finite_at_zero() {
 /// A tape of more variables than the machine code takes in registers reads the rest from
 /// memory: the same numbers as the interpreter, bit for bit.
 #[test]
+#[cfg_attr(not(feature = "jit"), ignore = "no machine code without the `jit` feature")]
 fn machine_code_reads_variables_beyond_the_registers() {
     use nhlab_core::formula::{Function, Graph, Tape};
     let mut g = Graph::new();
@@ -281,4 +283,30 @@ fn machine_code_reads_variables_beyond_the_registers() {
     interpreted.eval(&x, &mut b);
     assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
     assert_eq!(a[2], x[7]);
+}
+
+/// Where formulas run is told: as machine code with the `jit` feature (this host is one
+/// Cranelift supports), on the interpreter without it, with the reason; and a registered
+/// report is made once, at registration, exactly when they fall back.
+#[test]
+fn native_code_status_says_where_formulas_run() {
+    use nhlab_core::formula::{native_code_status, on_interpreter_fallback};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static REPORTS: AtomicUsize = AtomicUsize::new(0);
+    let status = native_code_status();
+    assert_eq!(status.compiled_in, cfg!(feature = "jit"));
+    assert_eq!(status.native(), cfg!(feature = "jit"), "{status:?}");
+    assert_eq!(status.why_not().is_some(), !status.native());
+    if let Some(why) = status.why_not() {
+        assert!(why.contains("interpreter"), "{why}");
+    }
+    // The only registration in this process.
+    on_interpreter_fallback(|why| {
+        assert!(why.contains("interpreter"), "{why}");
+        REPORTS.fetch_add(1, Ordering::SeqCst);
+    });
+    on_interpreter_fallback(|_| {
+        REPORTS.fetch_add(1, Ordering::SeqCst);
+    });
+    assert_eq!(REPORTS.load(Ordering::SeqCst), usize::from(!status.native()));
 }

@@ -13,8 +13,10 @@ mod cancel;
 mod plan;
 mod price;
 mod runner;
+mod scorecard;
 mod slot;
 mod thread_clock;
+mod work_precision;
 
 pub use active_runs::{ActiveRuns, RunGuard};
 pub use budget::{
@@ -30,5 +32,9 @@ pub use price::{Priced, about, check_price, duration};
 pub use runner::{
     Finished, PROGRESS_EVERY, Runner, lower_priority, off_runtime, run_config, time_limit,
 };
+pub use scorecard::{MAX_SCENES, PROPERTY_STEPS, plans as scorecard_plans};
 pub use slot::Slot;
 pub use thread_clock::{ThreadClock, millis};
+pub use work_precision::{
+    DEFAULT_LEVELS, DEFAULT_REPEATS, MAX_LEVELS, MAX_REPEATS, WorkPrecisionJob,
+};

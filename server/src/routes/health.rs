@@ -1,6 +1,6 @@
 //! [`health`]: the `GET /health` handler, which answers from the async runtime alone (no
 //! simulation ever runs there) with the simulation slots taken, the runs computing, the bytes
-//! the answers in flight hold and the caches' counters.
+//! the answers in flight hold, the caches' counters and whether formulas run as machine code.
 
 use crate::state::AppState;
 use crate::views::Health;
@@ -21,5 +21,7 @@ pub async fn health(State(state): State<AppState>) -> Json<Health> {
         answer_bytes_peak: state.answers_peak(),
         max_inflight_bytes,
         cache: state.caches.stats(),
+        // A lock and a clone once the first call has tried Cranelift (main does at startup).
+        formulas: nhlab_core::formula::native_code_status().into(),
     })
 }

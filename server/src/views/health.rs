@@ -1,5 +1,5 @@
 //! [`Health`]: the answer of `GET /health`, how busy the server is, with the counters of its
-//! caches ([`CachesStats`]).
+//! caches ([`CachesStats`]) and how formulas run ([`FormulasHealth`]).
 
 use serde::Serialize;
 use utoipa::ToSchema;
@@ -24,6 +24,26 @@ pub struct Health {
     pub max_inflight_bytes: u64,
     /// Hits, misses and entries of the latitude-axis and reference caches.
     pub cache: CachesStats,
+    /// Whether systems given as formulas run as machine code or on the interpreter.
+    pub formulas: FormulasHealth,
+}
+
+/// How systems given as formulas run, as `GET /health` reports it: compiled to machine code
+/// (Cranelift), or on the interpreter, which gives the same numbers, slower.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, ToSchema)]
+pub struct FormulasHealth {
+    /// Whether formulas are compiled to machine code (all but the very longest): the server
+    /// is built with the JIT and it has never failed in this process.
+    pub native: bool,
+    /// Why not, when they run on the interpreter: the server built without the `jit`
+    /// feature, or Cranelift's first failure on this host; null when `native`.
+    pub why: Option<String>,
+}
+
+impl From<nhlab_core::formula::NativeCodeStatus> for FormulasHealth {
+    fn from(status: nhlab_core::formula::NativeCodeStatus) -> Self {
+        Self { native: status.native(), why: status.why_not() }
+    }
 }
 
 /// One cache's counters, as `GET /health` reports them.

@@ -24,7 +24,7 @@ mod work_precision;
 
 pub use events::{DoneEvent, PointsEvent, ProgressEvent, RunEvent, ShutdownEvent};
 pub use gap::GapView;
-pub use health::{CacheStats, CachesStats, Health};
+pub use health::{CacheStats, CachesStats, FormulasHealth, Health};
 pub use method::MethodView;
 pub use run::RunView;
 pub use run_summary::RunSummary;

@@ -32,8 +32,9 @@ pub struct CustomLimits {
     pub formula: Limits,
     /// Most parameters.
     pub max_parameters: usize,
-    /// Whether formulas are compiled to machine code (else only their tapes are
-    /// interpreted: the general path, for tests).
+    /// Whether formulas are compiled to machine code where the JIT is built in (cargo
+    /// feature `jit`) and works on the host (else only their tapes are interpreted: the
+    /// general path, for tests).
     pub native: bool,
 }
 
