@@ -10,6 +10,10 @@ and, for DURATION seconds (default 60), runs at once:
     events soon fill the socket's buffers), reopened when the server closes them;
   - a flood of checks that compute: 250 at a time, each a scene whose latitude axis is not
     cached (a new q each time), asking for a short run;
+  - 4 clients of systems given as formulas: a 10⁴-cell sweep over a parameter of a
+    ~1,950-character U (one step a cell), the same sweep over the step limit, 16 heavy
+    DLA∘p8s15 runs at the step limit (refused with their price), and a heavy DLA∘p8s15 run
+    that is admitted and abandoned by its client after 0.3 s;
   - a prober, in a process of its own: GET /health every 50 ms, timing each answer.
 Then it closes every client and waits for the slots to be free.
 
@@ -37,6 +41,31 @@ MIXED = 50
 SLOW = 100
 STALLED = 20
 FLOOD = 250
+FORMULA = 4
+
+
+def large_system():
+    """A ~1,950-character U reading the parameter `k` (as bench/formula_sweep.py)."""
+    terms, i = [], 0
+    while len("+".join(terms)) < 1900:
+        terms.append(f"0.{i % 9 + 1}*cos(x1*{i % 7 + 1}+x2/{i % 5 + 2})")
+        i += 1
+    return {"name": "large", "passenger": ["x1", "x2"], "driver": "z", "parameters": {"k": 1},
+            "passenger_potential": "k*x1^2 + " + "+".join(terms),
+            "driver_potential": "z^2/2", "constraints": [["cos(z)", "sin(z)"]]}
+
+
+def formula_sweep(cells, step):
+    return {"system": large_system(), "q": [0.1, 0.2, 0.3], "v": [0, 0, 1], "step": step,
+            "t_end": 0.01, "methods": ["leapfrog"],
+            "axes": [{"path": "params.k", "linspace": [1, 2, cells]}]}
+
+
+def heavy_run(runs, t_end):
+    """`runs` DLA∘p8s15 runs on a heavy smooth U of the large system's kind."""
+    return {"system": large_system(), "q": [0.1, 0.2, 0.3], "v": [0, 0, 1], "step": 0.01,
+            "t_end": t_end, "points": 10,
+            "methods": [{"id": "dla", "composition": "p8s15"}] * runs}
 
 
 def free_port():
@@ -175,11 +204,50 @@ class Soak:
             self.statuses[status] += 1
             self.by_kind["flood of checks"][status] += 1
 
+    async def formula(self, rng):
+        choices = [
+            ("formula sweep 10^4 cells", formula_sweep(10_000, 0.01)),
+            ("formula sweep over the step limit", formula_sweep(300, 1e-9)),
+            ("16 heavy runs at the step limit", heavy_run(16, 13_300.0)),
+            ("heavy run, client leaves", heavy_run(1, 100.0)),
+        ]
+        while self.running():
+            kind, body = rng.choice(choices)
+            path = "/sweep" if "sweep" in kind else "/simulate"
+            try:
+                if kind.endswith("leaves"):
+                    await self.abandon(path, body, 0.3)
+                    self.by_kind[kind]["left"] += 1
+                    continue
+                status, headers, _ = await self.request("POST", path, body)
+            except (OSError, asyncio.IncompleteReadError, ValueError, IndexError) as e:
+                self.errors[f"formula {kind}: {type(e).__name__}"] += 1
+                await asyncio.sleep(0.1)
+                continue
+            self.statuses[status] += 1
+            self.by_kind[kind][status] += 1
+            if status == 503:
+                await asyncio.sleep(float(headers.get("retry-after", "1")))
+
+    async def abandon(self, path, body, after):
+        """Sends a request and closes the connection `after` s later, unread."""
+        _, writer = await self.connect()
+        try:
+            data = json.dumps(body).encode()
+            writer.write(
+                f"POST {path} HTTP/1.1\r\nHost: soak\r\nContent-Type: application/json\r\n"
+                f"Content-Length: {len(data)}\r\n\r\n".encode() + data)
+            await writer.drain()
+            await asyncio.sleep(after)
+        finally:
+            self.close(writer)
+
     async def run(self):
         tasks = [self.mixed(random.Random(i)) for i in range(MIXED)]
         tasks += [self.slow() for _ in range(SLOW)]
         tasks += [self.stalled() for _ in range(STALLED)]
         tasks += [self.flood(random.Random(1000 + i)) for i in range(FLOOD)]
+        tasks += [self.formula(random.Random(2000 + i)) for i in range(FORMULA)]
         await asyncio.gather(*tasks)
         for writer in list(self.writers):
             self.close(writer)
