@@ -121,7 +121,13 @@ fn overhead() -> Result<(), Box<dyn std::error::Error>> {
         let mut best = [f64::INFINITY; 2];
         for _ in 0..7 {
             for (i, paced) in [false, true].into_iter().enumerate() {
-                let cfg = RunConfig { points: 1000, progress_every: 1024, paced, time_limit: None };
+                let cfg = RunConfig {
+                    points: 1000,
+                    progress_every: 1024,
+                    paced,
+                    time_limit: None,
+                    ..RunConfig::default()
+                };
                 let start = cpu_seconds();
                 let out = prepared.run(&m, &cfg, &mut Sink);
                 best[i] = best[i].min((cpu_seconds() - start) * 1e9 / out.steps as f64);

@@ -99,9 +99,18 @@ class Series:
         return f"Series({len(self.t)} buckets, {kind})"
 
 
+def _column(values):
+    import numpy as np
+
+    return np.array([float("nan") if x is None else x for x in values], dtype=np.float64)
+
+
 class Run:
     """One method's run: `method` (its id and parameters, a dict), `label`, `status` ("ok" or
-    "failed"), `error`, `steps`, `elapsed_ms`, `cpu_ms`, and `series` by integral id."""
+    "failed"), `error`, `steps`, `elapsed_ms`, `cpu_ms`, `series` by integral id, and
+    `observables` where asked for: {"t": times, name: values, ...}, numpy float64 arrays in
+    the order asked for (None otherwise), and `section` likewise: {"t": crossing times,
+    quantity: values at the crossings, ...} (None unless a section was asked for)."""
 
     def __init__(self, data):
         self.method = data["method"]
@@ -109,6 +118,11 @@ class Run:
         self.status, self.error, self.steps = data["status"], data["error"], data["steps"]
         self.elapsed_ms, self.cpu_ms = data["elapsed_ms"], data["cpu_ms"]
         self.series = {k: Series(s) for k, s in data["series"].items()}
+        observed = data.get("observables")
+        self.observables = None if observed is None else {
+            k: _column(v) for k, v in observed.items()}
+        crossed = data.get("section")
+        self.section = None if crossed is None else {k: _column(v) for k, v in crossed.items()}
 
     def __repr__(self):
         return f"Run({self.label}, {self.status}, {self.steps} steps)"
@@ -134,17 +148,25 @@ class Simulation:
 
 
 def simulate(system, preset=None, params=None, q=None, v=None, step=None, t_end=None,
-             methods=None, integrals=None, points=None):
+             methods=None, integrals=None, points=None, observables=None, section=None):
     """`POST /simulate`: runs `methods` (default: the paper's five; each an id such as
     "leapfrog" or a dict {"id": "dla", "alpha": 0.4, "composition": "p4s3"}) on a scene of
     `system` (an id, or a system given as formulas, a dict) and measures each integral's
     error. `preset` fills params, q, v, step and t_end; the others override it; `points` is
-    the buckets per series (default 1000). Returns a `Simulation`."""
+    the buckets per series (default 1000). `observables` ({"speed": "x_dot*cos(theta)"}:
+    formulas in the coordinates, their velocities `x_dot`, `t` and the parameters) are
+    sampled at `points` times along each run, as `Run.observables`. `section` ({"surface":
+    "sin(zeta/2)", "direction": "both", "plot": ["x1", "x2"]}) records each run's crossings
+    of a Poincaré section, as `Run.section`. Returns a `Simulation`."""
     body = _scene(system, preset, params, q, v, step, t_end, integrals)
     if methods is not None:
         body["methods"] = list(methods)
     if points is not None:
         body["points"] = int(points)
+    if observables is not None:
+        body["observables"] = {str(k): str(f) for k, f in dict(observables).items()}
+    if section is not None:
+        body["section"] = dict(section)
     return Simulation(_json.loads(_call("POST", "/simulate", body)))
 
 

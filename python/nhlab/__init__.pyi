@@ -34,6 +34,8 @@ class Run:
     elapsed_ms: float
     cpu_ms: float | None
     series: dict[str, Series]
+    observables: dict[str, npt.NDArray[np.float64]] | None
+    section: dict[str, npt.NDArray[np.float64]] | None
 
 class Simulation:
     scene: dict[str, Any]
@@ -56,6 +58,8 @@ def simulate(
     methods: Iterable[Method] | None = ...,
     integrals: Iterable[str] | None = ...,
     points: int | None = ...,
+    observables: Mapping[str, str] | None = ...,
+    section: Mapping[str, Any] | None = ...,
 ) -> Simulation: ...
 def scorecard(
     methods: Iterable[Method] | None = ...,

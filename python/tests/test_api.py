@@ -40,6 +40,28 @@ def test_systems_equal_the_http_answer(http):
     assert ours == answer
 
 
+def test_observables_are_numpy_columns_in_the_order_asked_for(http):
+    observables = {"theta": "zeta", "speed": "x1_dot*cos(zeta) + x2_dot*sin(zeta)", "x": "x1"}
+    kwargs = dict(system="knife_edge", preset="paper-perturbed", t_end=100, points=11,
+                  methods=["leapfrog"], observables=observables)
+    status, answer = http.call("POST", "/simulate", kwargs)
+    assert status == 200
+    run = nhlab.simulate(**kwargs).runs[0]
+    assert list(run.observables) == ["t", "theta", "speed", "x"]
+    for name, values in run.observables.items():
+        assert values.dtype == np.float64 and len(values) == 11
+        np.testing.assert_array_equal(values, column(answer["runs"][0]["observables"][name]))
+    np.testing.assert_allclose(run.observables["t"], np.linspace(0, 100, 11), rtol=0, atol=1e-9)
+    assert nhlab.simulate("knife_edge", t_end=1, methods=["leapfrog"]).runs[0].observables is None
+    section = {"surface": "sin(zeta)", "direction": "up", "plot": ["x1", "theta"]}
+    r = nhlab.simulate(**{**kwargs, "section": section}).runs[0]
+    assert list(r.section) == ["t", "x1", "theta"] and len(r.section["t"]) > 3
+    np.testing.assert_allclose(np.sin(r.section["theta"]), 0, atol=1e-9)
+    with pytest.raises(nhlab.InputError) as e:
+        nhlab.simulate("knife_edge", t_end=1, observables={"bad": "x1^"})
+    assert e.value.path == "observables.bad"
+
+
 def test_simulate_gives_the_http_numbers_as_numpy_arrays(http):
     kwargs = dict(system="cvt_pendulum", preset="rotating-perturbed", t_end=300, points=200,
                   methods=["leapfrog", {"id": "dla", "alpha": 0.4}, {"id": "dla01", "composition": "p4s3"}])

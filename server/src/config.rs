@@ -57,6 +57,9 @@ pub struct Config {
     /// any work (steps × the method's cost per step on the system,
     /// [`nhlab_core::catalogue::cost`]); more is a 422 with the estimate.
     pub max_request_seconds: f64,
+    /// Most crossings of a Poincaré section kept per run (a request's `max_crossings` may
+    /// ask for fewer).
+    pub max_crossings: u64,
 }
 
 impl Default for Config {
@@ -80,6 +83,7 @@ impl Default for Config {
             max_sweep_steps: 2_000_000_000,
             max_run_seconds: 300.0,
             max_request_seconds: 300.0,
+            max_crossings: 10_000,
         }
     }
 }

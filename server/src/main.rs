@@ -118,6 +118,9 @@ struct Args {
     #[arg(long, env = "NHLAB_MAX_REQUEST_SECONDS",
           default_value_t = defaults().max_request_seconds, value_parser = seconds)]
     max_request_seconds: f64,
+    /// Most crossings of a Poincaré section kept per run (a request may ask for fewer).
+    #[arg(long, env = "NHLAB_MAX_CROSSINGS", default_value_t = defaults().max_crossings)]
+    max_crossings: u64,
 }
 
 #[derive(Debug, clap::Subcommand)]
@@ -226,6 +229,7 @@ impl Args {
             max_sweep_steps: self.max_sweep_steps,
             max_run_seconds: self.max_run_seconds,
             max_request_seconds: self.max_request_seconds,
+            max_crossings: self.max_crossings,
             formulas: nhlab_core::CustomLimits {
                 formula: nhlab_core::formula::Limits {
                     max_chars: self.max_formula_chars,

@@ -7,8 +7,8 @@
 use crate::error::ErrorBody;
 use crate::routes::{health, scorecard, simulate, sweep, systems, work_precision};
 use crate::views::{
-    DoneEvent, PointsEvent, ProgressEvent, RunEvent, SceneView, ShutdownEvent, SweepCell,
-    SweepDone, SweepHead, SweepProgress, VerdictView,
+    DoneEvent, ObservablesEvent, PointsEvent, ProgressEvent, RunEvent, SceneView, SectionEvent,
+    ShutdownEvent, SweepCell, SweepDone, SweepHead, SweepProgress, VerdictView,
 };
 use axum::Json;
 use utoipa::OpenApi;
@@ -39,6 +39,8 @@ use utoipa::OpenApi;
         VerdictView,
         ProgressEvent,
         PointsEvent,
+        ObservablesEvent,
+        SectionEvent,
         RunEvent,
         DoneEvent,
         ShutdownEvent,

@@ -268,10 +268,15 @@ impl CustomSystem {
     /// `q` as the code holds it, in the user's order.
     pub fn to_user(&self, q: &[f64]) -> Vec<f64> {
         let mut out = vec![0.0; self.dof];
+        self.to_user_into(q, &mut out);
+        out
+    }
+
+    /// [`to_user`](Self::to_user) into `out` (`dof` long).
+    pub fn to_user_into(&self, q: &[f64], out: &mut [f64]) {
         for (i, &j) in self.order.iter().enumerate() {
             out[j] = q[i];
         }
-        out
     }
 
     /// Checks the initial configuration: every formula finite there, and `A_x(ζ₀)` of full

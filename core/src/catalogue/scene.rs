@@ -117,6 +117,26 @@ impl SceneSystem {
     pub fn in_paper_class(&self) -> bool {
         !self.code().general
     }
+    /// Its coordinates' names, in the user's order (a built-in's as its general form names
+    /// them); observables and velocities (`x_dot`) are named after them.
+    pub fn coordinate_names(&self) -> Vec<String> {
+        let spec = match (self.custom(), self.built_in()) {
+            (Some(c), _) => Some((*c.spec).clone()),
+            (None, Some(entry)) => {
+                let info = entry.info();
+                let defaults: Vec<f64> = info.params.iter().map(|p| p.default).collect();
+                GeneralSpec::of_built_in(info, &defaults).ok().map(SystemSpec::General)
+            }
+            (None, None) => None,
+        };
+        match spec {
+            Some(SystemSpec::General(g)) => g.coordinates,
+            Some(SystemSpec::Coupled(c)) => {
+                c.passenger.iter().cloned().chain(std::iter::once(c.driver)).collect()
+            }
+            None => (0..self.dof()).map(|i| format!("q{i}")).collect(),
+        }
+    }
     /// Its number of coordinates, as given.
     pub fn dof(&self) -> usize {
         self.formulas().map_or(self.code().dof, |c| c.dof)
@@ -679,7 +699,10 @@ impl PreparedScene {
         let run = scene.system.code().run;
         match scene.system.formulas() {
             None => run(&input, method, cfg, observer),
-            Some(f) => run(&input, method, cfg, &mut UserOrder { observer, system: f }),
+            Some(f) => {
+                let (q, v) = (vec![0.0; f.dof], vec![0.0; f.dof]);
+                run(&input, method, cfg, &mut UserOrder { observer, system: f, q, v })
+            }
         }
     }
 }
@@ -697,6 +720,9 @@ fn internal(system: &SceneSystem, q: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>) 
 struct UserOrder<'a> {
     observer: &'a mut dyn Observer,
     system: &'a CustomSystem,
+    /// The state of `state`, in the user's order.
+    q: Vec<f64>,
+    v: Vec<f64>,
 }
 
 impl Observer for UserOrder<'_> {
@@ -711,6 +737,15 @@ impl Observer for UserOrder<'_> {
     }
     fn finish(&mut self, q: &[f64], v: &[f64]) {
         self.observer.finish(&self.system.to_user(q), &self.system.to_user(v));
+    }
+    fn sample(&mut self, t: f64, q: &[f64], v: &[f64]) {
+        self.observer.sample(t, &self.system.to_user(q), &self.system.to_user(v));
+    }
+    fn state(&mut self, t: f64, q: &[f64], v: &[f64]) {
+        // Every step: into buffers kept for the run, not allocated per step.
+        self.system.to_user_into(q, &mut self.q);
+        self.system.to_user_into(v, &mut self.v);
+        self.observer.state(t, &self.q, &self.v);
     }
     fn progress(&mut self, steps_done: u64, t: f64) -> ControlFlow<()> {
         self.observer.progress(steps_done, t)

@@ -18,7 +18,7 @@ pub use general::{run_general, run_method_general};
 pub use problem::{Collect, DIVERGED, Observer, Problem, RunConfig, RunOutcome};
 
 use self::invariant_series::InvariantSeries;
-use self::problem::{Progress, StepSeries, failure_of};
+use self::problem::{Progress, Samples, StepSeries, failure_of};
 use self::rank::Rank;
 use crate::measure::latitude::LatitudeTracker;
 use crate::methods::integrator::{GeneralStepper, Stepper};
@@ -161,6 +161,13 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
     let mut invariants =
         InvariantSeries::new(problem, &problem.start.q, &problem.start.v, cfg, observer);
     let mut progress = Progress::new(cfg);
+    let mut samples = Samples::new(cfg.samples, problem.steps);
+    if samples.due(0) {
+        observer.sample(0.0, problem.start.q.as_slice(), problem.start.v.as_slice());
+    }
+    if cfg.every_step {
+        observer.state(0.0, problem.start.q.as_slice(), problem.start.v.as_slice());
+    }
     for k in 1..=problem.steps {
         let t0 = (k - 1) as f64 * h;
         let failed = |failure| RunOutcome {
@@ -199,6 +206,12 @@ pub fn run<S: System<N, R>, M: Stepper, const N: usize, const R: usize>(
             && let Some(b) = buckets.push(tc, e)
         {
             observer.points(Integral::Latitude, b);
+        }
+        if samples.due(k) {
+            observer.sample(t, st.q_with_turns(turns).as_slice(), st.v.as_slice());
+        }
+        if cfg.every_step {
+            observer.state(t, st.q_with_turns(turns).as_slice(), st.v.as_slice());
         }
         if let Some(cancelled) = progress.tick(k, t, observer) {
             return cancelled;

@@ -25,8 +25,8 @@ pub use budget::{
 pub use cache::{CAPACITY, Cache, Caches, ReferenceKey, SceneKey};
 pub use cancel::{Cancel, CancelOnDrop};
 pub use plan::{
-    ADVICE, Delivery, Plan, check_answer_bytes, method, methods, points, priced, steps_of,
-    steps_text,
+    ADVICE, Delivery, Plan, SectionPlan, check_answer_bytes, method, methods, points, priced,
+    steps_of, steps_text,
 };
 pub use price::{Priced, about, check_price, duration};
 pub use runner::{

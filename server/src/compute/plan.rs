@@ -5,10 +5,15 @@
 use crate::compute::{Caches, JSON_BYTES_PER_POINT, Priced, answer_bytes, check_price, mib};
 use crate::config::Config;
 use crate::error::AppError;
-use crate::request::{MethodRequest, SimulateRequest};
+use crate::request::{MethodRequest, SectionRequest, SimulateRequest};
 use crate::views::SceneView;
 use nhlab_core::catalogue::cost::run_cost;
+use nhlab_core::measure::observables::Observables;
+use nhlab_core::measure::section::{Direction, Section};
 use nhlab_core::{InputError, Method, MethodSpec, PreparedScene, Scene, Short};
+
+/// Bytes an observable's sampled value holds: 8 as a number, ~24 as JSON text.
+pub const OBSERVABLE_BYTES_PER_VALUE: u64 = 32;
 
 /// What a request over `max_request_seconds` may do.
 pub const ADVICE: &str = "shorten t_end, lengthen the step or use fewer methods";
@@ -40,6 +45,20 @@ pub struct Plan {
     /// Per method: why it has no step for the system, where it has none (a run of it is
     /// refused, or reported as not applicable by the scorecard).
     pub not_applicable: Vec<Option<String>>,
+    /// The observables each run samples at `points` times, if any were asked for.
+    pub observables: Option<Arc<Observables>>,
+    /// The Poincaré section each run records, if one was asked for.
+    pub section: Option<Arc<SectionPlan>>,
+}
+
+/// A checked Poincaré section: the surface, the plotted quantities (their columns named by
+/// their text) and the most crossings a run keeps.
+#[derive(Debug)]
+pub struct SectionPlan {
+    /// The surface and the plotted quantities.
+    pub section: Section,
+    /// Most crossings kept per run.
+    pub max_crossings: usize,
 }
 
 impl Plan {
@@ -109,7 +128,35 @@ impl Plan {
         let scene = SceneView::of(&prepared, &methods, points);
         let not_applicable =
             methods.iter().map(|m| prepared.check_method(m).err().map(|e| e.to_string())).collect();
-        let plan = Self { prepared: Arc::new(prepared), methods, points, scene, not_applicable };
+        let observables = match &req.observables {
+            None => None,
+            Some(given) if given.0.is_empty() => {
+                return Err(AppError::invalid(
+                    "observables",
+                    "observables must not be empty; leave it out to sample none",
+                ));
+            }
+            Some(given) => {
+                let system = &prepared.scene.system;
+                let coordinates = system.coordinate_names();
+                let params = prepared.scene.named_params();
+                let limits = &config.formulas.formula;
+                Some(Arc::new(Observables::compile(&given.0, &coordinates, &params, limits)?))
+            }
+        };
+        let section = match &req.section {
+            None => None,
+            Some(given) => Some(Arc::new(section_plan(given, req, &prepared, config)?)),
+        };
+        let plan = Self {
+            prepared: Arc::new(prepared),
+            methods,
+            points,
+            scene,
+            not_applicable,
+            observables,
+            section,
+        };
         let bytes_per_point = match delivery {
             // A stream keeps the buckets too, and a short run's last events hold them all as
             // JSON text, waiting for the client: as much as a JSON answer.
@@ -141,8 +188,101 @@ impl Plan {
     pub fn held_bytes(&self, bytes_per_point: u64) -> u64 {
         let series = (self.methods.len() * self.prepared.integrals.len()) as u64;
         let points = (self.points as u64).min(self.scene.steps.saturating_add(1));
-        answer_bytes(series, points, bytes_per_point)
+        answer_bytes(series, points, bytes_per_point).saturating_add(self.observable_bytes())
     }
+
+    /// What the runs' observables hold: per run, a column of times and one per observable,
+    /// `points` values each, as numbers and then as JSON text (about 24 bytes a value).
+    pub fn observable_bytes(&self) -> u64 {
+        let runs = self.methods.len() as u64;
+        let sampled = self.observables.as_ref().map_or(0, |observables| {
+            let columns = (observables.names().len() + 1) as u64;
+            let points = (self.points as u64).min(self.scene.steps.saturating_add(1));
+            columns.saturating_mul(points)
+        });
+        // A section's columns, at their most crossings.
+        let crossed = self.section.as_ref().map_or(0, |s| {
+            ((s.section.plot.names().len() + 1) as u64).saturating_mul(s.max_crossings as u64)
+        });
+        runs.saturating_mul(sampled.saturating_add(crossed))
+            .saturating_mul(OBSERVABLE_BYTES_PER_VALUE)
+    }
+
+    /// How each run of this plan reports: `points` buckets, its observables sampled at as
+    /// many times, paced by the clock, and ended past `limit`.
+    pub fn run_config(&self, limit: Option<std::time::Duration>) -> nhlab_core::RunConfig {
+        let mut cfg = super::run_config(self.points, limit);
+        if self.observables.is_some() {
+            cfg.samples = self.points;
+        }
+        cfg.every_step = self.section.is_some();
+        cfg
+    }
+}
+
+/// Checks and compiles a section: the surface (errors at `section.surface`), each plotted
+/// quantity an observable's name or a formula (at `section.plot[i]`), the direction and the
+/// most crossings.
+fn section_plan(
+    given: &SectionRequest,
+    req: &SimulateRequest,
+    prepared: &PreparedScene,
+    config: &Config,
+) -> Result<SectionPlan, AppError> {
+    let coordinates = prepared.scene.system.coordinate_names();
+    let params = prepared.scene.named_params();
+    let names = (coordinates.as_slice(), params.as_slice(), &config.formulas.formula);
+    let surface = vec![("surface".to_owned(), given.surface.clone())];
+    let surface =
+        Observables::compile_at(&surface, "section", &|_, _| "section.surface".into(), names)?;
+    if given.plot.is_empty() {
+        return Err(AppError::invalid("section.plot", "plot must name at least one quantity"));
+    }
+    let observables = req.observables.as_ref().map_or(&[][..], |o| o.0.as_slice());
+    let plot: Vec<(String, String)> = given
+        .plot
+        .iter()
+        .map(|p| {
+            let formula = observables.iter().find(|(name, _)| name == p).map_or(p, |(_, f)| f);
+            (p.clone(), formula.clone())
+        })
+        .collect();
+    if let Some(i) = (1..plot.len()).find(|&i| plot[..i].iter().any(|(n, _)| *n == plot[i].0)) {
+        return Err(AppError::invalid(
+            format!("section.plot[{i}]"),
+            format!("{} is listed twice; list each quantity once", plot[i].0),
+        ));
+    }
+    let plot = Observables::compile_at(
+        &plot,
+        "section.plot",
+        &|i, _| format!("section.plot[{i}]"),
+        names,
+    )?;
+    let direction = match given.direction.as_deref() {
+        None | Some("up") => Direction::Up,
+        Some("down") => Direction::Down,
+        Some("both") => Direction::Both,
+        Some(other) => {
+            return Err(AppError::invalid(
+                "section.direction",
+                format!("direction must be up, down or both, got {other:?}"),
+            ));
+        }
+    };
+    let limit = config.max_crossings;
+    let max_crossings = match given.max_crossings {
+        None => limit,
+        Some(n) if n >= 1 && (n as u64) <= limit => n as u64,
+        Some(n) => {
+            return Err(AppError::invalid(
+                "section.max_crossings",
+                format!("max_crossings must be between 1 and {limit} (max_crossings), got {n}"),
+            ));
+        }
+    };
+    let max_crossings = usize::try_from(max_crossings).unwrap_or(usize::MAX);
+    Ok(SectionPlan { section: Section { surface, plot, direction }, max_crossings })
 }
 
 /// `runs` runs of `m` on `scene`, priced.

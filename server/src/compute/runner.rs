@@ -34,7 +34,14 @@ pub const PROGRESS_EVERY: u64 = 1024;
 /// milliseconds (a look at the cancellation flag at least that often), and the time limit
 /// `limit` ([`time_limit`]), if any.
 pub fn run_config(points: usize, limit: Option<Duration>) -> RunConfig {
-    RunConfig { points, progress_every: PROGRESS_EVERY, paced: true, time_limit: limit }
+    RunConfig {
+        points,
+        progress_every: PROGRESS_EVERY,
+        paced: true,
+        time_limit: limit,
+        samples: 0,
+        every_step: false,
+    }
 }
 
 /// `max_run_seconds` as a duration (a limit too large for one is as good as none).
@@ -125,7 +132,7 @@ impl Runner {
         let inject_panic = self.panic_on_points == Some(plan.points);
         let prepared = plan.prepared.clone();
         let method = plan.methods[index];
-        let cfg = run_config(plan.points, Some(self.time_limit));
+        let cfg = plan.run_config(Some(self.time_limit));
         tokio::task::spawn_blocking(move || {
             let (_guard, _slot) = (guard, slot);
             lower_priority();

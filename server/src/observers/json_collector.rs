@@ -4,12 +4,14 @@
 //! are kept once, in [`Verdicts`] (which needs them whole), and become [`SeriesView`] columns
 //! only at the end. Its counterpart for a stream is [`SseEmitter`](crate::observers::SseEmitter).
 
-use crate::compute::Cancel;
-use crate::observers::{IntegralNames, Verdicts};
-use crate::views::SeriesView;
+use crate::compute::{Cancel, SectionPlan};
+use crate::observers::{Crossings, IntegralNames, Sampled, Verdicts};
+use crate::views::{ObservablesView, SeriesView};
+use nhlab_core::measure::observables::Observables;
 use nhlab_core::{Bucket, Gap, Integral, Observer};
 use std::collections::BTreeMap;
 use std::ops::ControlFlow;
+use std::sync::Arc;
 
 /// Collects a run's series for a JSON answer.
 #[derive(Debug)]
@@ -19,12 +21,44 @@ pub struct JsonCollector {
     /// The buckets and initial values, by integral.
     pub verdicts: Verdicts,
     cancel: Cancel,
+    /// The observables sampled, with their columns so far.
+    observables: Option<Sampled>,
+    /// The section's crossings so far.
+    section: Option<Crossings>,
 }
 
 impl JsonCollector {
     /// A collector for `integrals` named by `names`, stopping when `cancel` is set.
     pub fn new(integrals: &[Integral], names: IntegralNames, cancel: Cancel) -> Self {
-        Self { integrals: integrals.to_vec(), verdicts: Verdicts::new(names), cancel }
+        Self {
+            integrals: integrals.to_vec(),
+            verdicts: Verdicts::new(names),
+            cancel,
+            observables: None,
+            section: None,
+        }
+    }
+
+    /// The same, sampling `observables` at up to `points` times.
+    pub fn sampling(mut self, observables: Option<&Arc<Observables>>, points: usize) -> Self {
+        self.observables = observables.map(|o| Sampled::new(o.clone(), points));
+        self
+    }
+
+    /// The same, recording `section`'s crossings.
+    pub fn crossing(mut self, section: Option<&Arc<SectionPlan>>, dof: usize) -> Self {
+        self.section = section.map(|s| Crossings::new(s.clone(), dof));
+        self
+    }
+
+    /// The observables' columns, if any were asked for.
+    pub fn take_observables(&mut self) -> Option<ObservablesView> {
+        self.observables.take().map(|s| s.view)
+    }
+
+    /// The section's columns, if one was asked for.
+    pub fn take_section(&mut self) -> Option<ObservablesView> {
+        self.section.take().map(|s| s.view)
     }
 
     /// The series by integral id, each with its verdict (null for an empty series).
@@ -55,6 +89,18 @@ impl Observer for JsonCollector {
 
     fn gap(&mut self, integral: Integral, gap: Gap) {
         self.verdicts.gap(integral, gap);
+    }
+
+    fn sample(&mut self, t: f64, q: &[f64], v: &[f64]) {
+        if let Some(sampled) = &mut self.observables {
+            sampled.push(t, q, v);
+        }
+    }
+
+    fn state(&mut self, t: f64, q: &[f64], v: &[f64]) {
+        if let Some(crossings) = &mut self.section {
+            crossings.observe(t, q, v);
+        }
     }
 
     fn progress(&mut self, _steps_done: u64, _t: f64) -> ControlFlow<()> {

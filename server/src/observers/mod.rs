@@ -4,11 +4,13 @@
 //! ([`sse_event`]). Both keep the [`Verdicts`] of their series.
 
 mod json_collector;
+mod recorded;
 mod sse_emitter;
 mod sse_event;
 mod verdicts;
 
 pub use json_collector::JsonCollector;
+pub use recorded::{Crossings, Sampled};
 pub use sse_emitter::SseEmitter;
 pub use sse_event::sse_event;
 pub use verdicts::{IntegralNames, Verdicts};

@@ -6,13 +6,18 @@
 //! for their verdicts ([`Verdicts`]), sent with the `run` event. Its counterpart for a JSON
 //! answer is [`JsonCollector`](crate::observers::JsonCollector).
 
-use crate::compute::Cancel;
-use crate::observers::{IntegralNames, Verdicts, sse_event};
-use crate::views::{GapView, PointsEvent, ProgressEvent, SeriesView, VerdictView};
+use crate::compute::{Cancel, SectionPlan};
+use crate::observers::{Crossings, IntegralNames, Sampled, Verdicts, sse_event};
+use crate::views::{
+    GapView, ObservablesEvent, ObservablesView, PointsEvent, ProgressEvent, SectionEvent,
+    SeriesView, VerdictView,
+};
 use axum::response::sse::Event;
+use nhlab_core::measure::observables::Observables;
 use nhlab_core::{Bucket, Gap, Integral, Observer};
 use std::collections::BTreeMap;
 use std::ops::ControlFlow;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 use tokio::sync::mpsc::Sender;
 use tokio::sync::mpsc::error::TrySendError;
@@ -33,6 +38,10 @@ pub struct SseEmitter {
     every: Duration,
     /// Steps done and time reached at the last look at the run.
     reached: (u64, f64),
+    /// The observables sampled and not sent yet.
+    observables: Option<Sampled>,
+    /// The section's crossings not sent yet.
+    section: Option<Crossings>,
 }
 
 impl SseEmitter {
@@ -55,7 +64,21 @@ impl SseEmitter {
             last: Instant::now(),
             every,
             reached: (0, 0.0),
+            observables: None,
+            section: None,
         }
+    }
+
+    /// The same, recording `section`'s crossings (sent as `section` events with the points).
+    pub fn crossing(mut self, section: Option<&Arc<SectionPlan>>, dof: usize) -> Self {
+        self.section = section.map(|s| Crossings::new(s.clone(), dof));
+        self
+    }
+
+    /// The same, sampling `observables` (sent as `observables` events with the points).
+    pub fn sampling(mut self, observables: Option<&Arc<Observables>>, points: usize) -> Self {
+        self.observables = observables.map(|o| Sampled::new(o.clone(), points));
+        self
     }
 
     /// The `points` events of the buckets not sent yet (the coordinator sends the last ones
@@ -63,7 +86,8 @@ impl SseEmitter {
     pub fn take_points(&mut self) -> Vec<Event> {
         let run = self.run;
         let verdicts = &self.verdicts;
-        self.pending
+        let mut events: Vec<Event> = self
+            .pending
             .iter_mut()
             .filter(|(_, s)| !s.is_empty())
             .map(|(integral, series)| {
@@ -71,7 +95,23 @@ impl SseEmitter {
                 let integral = verdicts.name(*integral);
                 sse_event("points", &PointsEvent { run, integral, series })
             })
-            .collect()
+            .collect();
+        if let Some(sampled) = &mut self.observables
+            && !sampled.view.t.is_empty()
+        {
+            let names: Vec<String> = sampled.view.columns.iter().map(|(n, _)| n.clone()).collect();
+            let observables = std::mem::replace(&mut sampled.view, ObservablesView::new(&names, 0));
+            events.push(sse_event("observables", &ObservablesEvent { run, observables }));
+        }
+        if let Some(crossings) = &mut self.section
+            && !crossings.view.t.is_empty()
+        {
+            let names: Vec<String> =
+                crossings.view.columns.iter().map(|(n, _)| n.clone()).collect();
+            let section = std::mem::replace(&mut crossings.view, ObservablesView::new(&names, 0));
+            events.push(sse_event("section", &SectionEvent { run, section }));
+        }
+        events
     }
 
     /// The run's last `progress` event, once it has ended after `steps_done` steps at time
@@ -131,6 +171,18 @@ impl Observer for SseEmitter {
 
     fn gap(&mut self, integral: Integral, gap: Gap) {
         self.verdicts.gap(integral, gap);
+    }
+
+    fn sample(&mut self, t: f64, q: &[f64], v: &[f64]) {
+        if let Some(sampled) = &mut self.observables {
+            sampled.push(t, q, v);
+        }
+    }
+
+    fn state(&mut self, t: f64, q: &[f64], v: &[f64]) {
+        if let Some(crossings) = &mut self.section {
+            crossings.observe(t, q, v);
+        }
     }
 
     fn progress(&mut self, steps_done: u64, t: f64) -> ControlFlow<()> {

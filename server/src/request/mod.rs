@@ -9,10 +9,12 @@
 
 mod method_request;
 mod objects;
+mod observables;
 mod params;
 mod scene_spec;
 pub(crate) mod schemas;
 mod scorecard_request;
+mod section;
 mod simulate_request;
 mod sweep_request;
 mod system_field;
@@ -20,9 +22,11 @@ mod work_precision_request;
 
 pub use method_request::MethodRequest;
 pub(crate) use objects::objects;
+pub use observables::ObservablesRequest;
 pub use params::Params;
 pub use scene_spec::SceneSpec;
 pub use scorecard_request::ScorecardRequest;
+pub use section::SectionRequest;
 pub use simulate_request::SimulateRequest;
 pub(crate) use simulate_request::scene_body;
 pub use sweep_request::{AxisRequest, SweepRequest};

@@ -54,6 +54,19 @@ pub(crate) fn preset_id() -> ObjectBuilder {
     ))
 }
 
+/// `observables`: formulas by name.
+pub(crate) fn observables() -> ObjectBuilder {
+    ObjectBuilder::new()
+        .schema_type(Type::Object)
+        .additional_properties(Some(AdditionalProperties::RefOr(RefOr::T(Schema::Object(
+            ObjectBuilder::new().schema_type(Type::String).build(),
+        )))))
+        .description(Some(
+            "Observables by name, each a formula in the coordinates, their velocities \
+             (x_dot), t and the parameters, e.g. {\"speed\": \"x_dot*cos(theta)\"}",
+        ))
+}
+
 /// `params`: numbers by name.
 pub(crate) fn params() -> ObjectBuilder {
     ObjectBuilder::new()

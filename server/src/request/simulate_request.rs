@@ -3,8 +3,8 @@
 //! [`WorkPrecisionRequest`](crate::WorkPrecisionRequest)): the scene's fields, then the
 //! body's own.
 
-use crate::request::MethodRequest;
 use crate::request::schemas;
+use crate::request::{MethodRequest, ObservablesRequest, SectionRequest};
 
 /// Declares a request body that starts with a scene: the fields every such body shares (with
 /// their docs and schemas), then its own, and the conversions to the core's
@@ -89,6 +89,8 @@ macro_rules! scene_body {
                     integrals: self.integrals.clone(),
                     methods,
                     points,
+                    observables: None,
+                    section: None,
                 }
             }
         }
@@ -108,5 +110,17 @@ scene_body! {
         #[serde(default)]
         #[schema(minimum = 1, maximum = 100_000)]
         pub points: Option<i64>,
+        /// Quantities to sample along each run, by name, each a formula in the
+        /// coordinates, their velocities (`x_dot`), `t` and the parameters; each run's
+        /// answer gets them as columns (`observables`) at `points` times spread evenly over
+        /// the run (default: none).
+        #[serde(default)]
+        #[schema(schema_with = schemas::observables)]
+        pub observables: Option<ObservablesRequest>,
+        /// A Poincaré section of each run: each crossing of `surface` = 0 (in `direction`),
+        /// located inside its step, with the `plot` quantities there; each run's answer gets
+        /// them as columns (`section`) (default: none).
+        #[serde(default)]
+        pub section: Option<SectionRequest>,
     }
 }

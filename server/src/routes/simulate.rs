@@ -154,7 +154,9 @@ async fn run(
             runner.spawn(
                 plan,
                 i,
-                JsonCollector::new(&plan.prepared.integrals, names, cancel.clone()),
+                JsonCollector::new(&plan.prepared.integrals, names, cancel.clone())
+                    .sampling(plan.observables.as_ref(), plan.points)
+                    .crossing(plan.section.as_ref(), plan.prepared.scene.system.dof()),
             )
         })
         .collect();
@@ -177,7 +179,9 @@ fn respond(
                 "internal error: the simulation of run {i} panicked: {panic}"
             ))
         })?;
-        runs.push(RunView { summary, series: finished.observer.into_series() });
+        let mut observer = finished.observer;
+        let (observables, section) = (observer.take_observables(), observer.take_section());
+        runs.push(RunView { summary, series: observer.into_series(), observables, section });
     }
     Ok(SimulateResponse { scene: plan.scene, runs })
 }

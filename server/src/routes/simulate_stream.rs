@@ -61,7 +61,9 @@ async fn coordinate(
     let mut runs: FuturesUnordered<_> = (0..plan.methods.len())
         .map(|i| {
             let names = IntegralNames::of(&plan.prepared);
-            let emitter = SseEmitter::new((i, steps), names, every, tx.clone(), cancel.clone());
+            let emitter = SseEmitter::new((i, steps), names, every, tx.clone(), cancel.clone())
+                .sampling(plan.observables.as_ref(), plan.points)
+                .crossing(plan.section.as_ref(), plan.prepared.scene.system.dof());
             let method = plan.scene.methods[i].clone();
             let step = plan.prepared.scene.step;
             let handle =

@@ -1,12 +1,13 @@
 //! The payloads of the stream's server-sent events, in order: `scene` (a [`SceneView`],
-//! once), then per run any number of `progress` and `points`, one `run`, and `done` last —
+//! once), then per run any number of `progress`, `points`, `observables` and `section`, one
+//! `run`, and `done` last —
 //! or `shutdown` last instead when the server shuts down mid-stream (its runs stopped).
 //! Concatenating a run's `points` for an integral gives the JSON response's series exactly.
 //! [`sse_event`](crate::observers::sse_event) writes them.
 //!
 //! [`SceneView`]: crate::views::SceneView
 
-use crate::views::{GapView, RunSummary, SeriesView, VerdictView};
+use crate::views::{GapView, ObservablesView, RunSummary, SeriesView, VerdictView};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use utoipa::ToSchema;
@@ -34,6 +35,31 @@ pub struct PointsEvent {
     /// The new buckets, as columns `t`, `mean`, `max`.
     #[serde(flatten)]
     pub series: SeriesView,
+}
+
+/// `observables`: a run's observables sampled since its last `observables` event, as
+/// columns `t` and one per observable (concatenated, the JSON answer's `observables`).
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct ObservablesEvent {
+    /// Run index.
+    pub run: usize,
+    /// The new samples.
+    #[serde(flatten)]
+    #[schema(value_type = Object)]
+    pub observables: ObservablesView,
+}
+
+/// `section`: a run's crossings of its Poincaré section since its last `section` event, as
+/// columns `t` (the crossing times) and one per plotted quantity (concatenated, the JSON
+/// answer's `section`).
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct SectionEvent {
+    /// Run index.
+    pub run: usize,
+    /// The new crossings.
+    #[serde(flatten)]
+    #[schema(value_type = Object)]
+    pub section: ObservablesView,
 }
 
 /// `run`: a run ended.

@@ -10,6 +10,7 @@ mod events;
 mod gap;
 mod health;
 mod method;
+mod observables;
 mod run;
 mod run_summary;
 mod scene;
@@ -22,10 +23,13 @@ mod systems;
 mod verdict;
 mod work_precision;
 
-pub use events::{DoneEvent, PointsEvent, ProgressEvent, RunEvent, ShutdownEvent};
+pub use events::{
+    DoneEvent, ObservablesEvent, PointsEvent, ProgressEvent, RunEvent, SectionEvent, ShutdownEvent,
+};
 pub use gap::GapView;
 pub use health::{CacheStats, CachesStats, FormulasHealth, Health};
 pub use method::MethodView;
+pub use observables::ObservablesView;
 pub use run::RunView;
 pub use run_summary::RunSummary;
 pub use scene::SceneView;

@@ -5,7 +5,9 @@
 //! run.
 
 use super::invariant_series::InvariantSeries;
-use super::problem::{Observer, Problem, Progress, RunConfig, RunOutcome, StepSeries, failure_of};
+use super::problem::{
+    Observer, Problem, Progress, RunConfig, RunOutcome, Samples, StepSeries, failure_of,
+};
 use super::rank::Rank;
 use crate::methods::general_memory::GeneralMemory;
 use crate::methods::integrator::{GeneralStepper, Stepper};
@@ -43,6 +45,13 @@ pub fn run_general<S: Mechanical<N, R>, M: GeneralStepper, const N: usize, const
     let mut lanes = StepSeries::new(series, &[h0, 0.0], (problem.steps, cfg.points), observer);
     let mut invariants = InvariantSeries::new(problem, &st.q, &st.v, cfg, observer);
     let mut progress = Progress::new(cfg);
+    let mut samples = Samples::new(cfg.samples, problem.steps);
+    if samples.due(0) {
+        observer.sample(0.0, st.q.as_slice(), st.v.as_slice());
+    }
+    if cfg.every_step {
+        observer.state(0.0, st.q.as_slice(), st.v.as_slice());
+    }
     for k in 1..=problem.steps {
         let t0 = (k - 1) as f64 * h;
         let failed = |failure| RunOutcome {
@@ -69,6 +78,12 @@ pub fn run_general<S: Mechanical<N, R>, M: GeneralStepper, const N: usize, const
             && let Err(failure) = series.push(t, &st.q, &st.v, observer)
         {
             return failed(failure);
+        }
+        if samples.due(k) {
+            observer.sample(t, st.q.as_slice(), st.v.as_slice());
+        }
+        if cfg.every_step {
+            observer.state(t, st.q.as_slice(), st.v.as_slice());
         }
         if let Some(cancelled) = progress.tick(k, t, observer) {
             return cancelled;

@@ -23,6 +23,12 @@ pub trait Observer {
     fn gap(&mut self, _integral: Integral, _gap: Gap) {}
     /// The final state of a run that reached t_end (work–precision measures it).
     fn finish(&mut self, _q: &[f64], _v: &[f64]) {}
+    /// The state at time t, at each of the [`RunConfig::samples`] times the run samples
+    /// ([`Samples`]; t = 0 first): what observables are computed from.
+    fn sample(&mut self, _t: f64, _q: &[f64], _v: &[f64]) {}
+    /// The state at the start and at the end of every step, when the run is asked for them
+    /// ([`RunConfig::every_step`]: a Poincaré section looks at each).
+    fn state(&mut self, _t: f64, _q: &[f64], _v: &[f64]) {}
     /// Called every [`RunConfig::progress_every`] steps, or about every
     /// [`AIM`](crate::measure::pace::AIM) of a [`paced`](RunConfig::paced) run; `Break`
     /// cancels the run.
@@ -69,11 +75,82 @@ pub struct RunConfig {
     /// The longest the run may take, wall clock: past it the run ends with
     /// [`RunError::TimeLimit`] (looked at with the progress calls).
     pub time_limit: Option<Duration>,
+    /// States handed to [`Observer::sample`], at times spread evenly over the run from 0 to
+    /// t_end ([`Samples`]); none when 0.
+    pub samples: usize,
+    /// Whether every step's state goes to [`Observer::state`].
+    pub every_step: bool,
 }
 
 impl Default for RunConfig {
     fn default() -> Self {
-        Self { points: 1000, progress_every: 4096, paced: false, time_limit: None }
+        Self {
+            points: 1000,
+            progress_every: 4096,
+            paced: false,
+            time_limit: None,
+            samples: 0,
+            every_step: false,
+        }
+    }
+}
+
+/// When a run samples its state: at the `count` times t_j = j·t_end/(count − 1), the state
+/// at the step k_j = round(j·steps/(count − 1)) that ends nearest each, every step once (a
+/// run of fewer steps than `count` samples each step); one sample is the final state. The
+/// loop compares the step with the next k_j, no division per step.
+#[derive(Debug, Clone)]
+pub(crate) struct Samples {
+    count: u64,
+    steps: u64,
+    /// The next sample's index j, and its step k_j (`u64::MAX` when done).
+    j: u64,
+    next: u64,
+}
+
+impl Samples {
+    pub(crate) fn new(count: usize, steps: u64) -> Self {
+        let mut s = Self { count: count as u64, steps, j: 0, next: u64::MAX };
+        if count == 1 {
+            (s.j, s.next) = (0, steps);
+        } else if count > 1 {
+            s.next = 0;
+        }
+        s
+    }
+
+    /// The step of sample j.
+    fn step_of(&self, j: u64) -> u64 {
+        if self.count <= 1 {
+            return self.steps;
+        }
+        (j as f64 * self.steps as f64 / (self.count - 1) as f64).round() as u64
+    }
+
+    /// Whether step k (0: the start) is sampled; moves on to the next sample.
+    #[inline]
+    pub(crate) fn due(&mut self, k: u64) -> bool {
+        if k != self.next {
+            return false;
+        }
+        self.advance(k);
+        true
+    }
+
+    #[inline(never)]
+    fn advance(&mut self, k: u64) {
+        loop {
+            self.j += 1;
+            if self.j >= self.count.max(1) {
+                self.next = u64::MAX;
+                return;
+            }
+            let next = self.step_of(self.j);
+            if next > k {
+                self.next = next;
+                return;
+            }
+        }
     }
 }
 
@@ -228,5 +305,27 @@ impl Progress {
             .progress(k, t)
             .is_break()
             .then_some(RunOutcome { steps: k, error: Some(RunError::Cancelled { step: k, t }) })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Samples;
+
+    fn steps_sampled(count: usize, steps: u64) -> Vec<u64> {
+        let mut s = Samples::new(count, steps);
+        (0..=steps).filter(|&k| s.due(k)).collect()
+    }
+
+    #[test]
+    fn samples_are_the_steps_nearest_evenly_spread_times() {
+        assert_eq!(steps_sampled(5, 100), [0, 25, 50, 75, 100]);
+        assert_eq!(steps_sampled(4, 10), [0, 3, 7, 10]);
+        assert_eq!(steps_sampled(2, 7), [0, 7]);
+        // More samples than steps: every step once.
+        assert_eq!(steps_sampled(50, 3), [0, 1, 2, 3]);
+        // One: the final state; none: nothing.
+        assert_eq!(steps_sampled(1, 9), [9]);
+        assert!(steps_sampled(0, 9).is_empty());
     }
 }

@@ -1,0 +1,45 @@
+//! [`ObservablesView`]: a run's sampled observables as columns, `{"t": [...], "theta":
+//! [...], ...}`: the sample times first, then each observable in the order asked for.
+
+use serde::Serialize;
+use serde::ser::SerializeMap;
+
+/// A run's observables: the sample times (`t`) and one column per observable. A value that
+/// is not finite is null.
+/// (Its schema is an object of number arrays, given where it is a field.)
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ObservablesView {
+    /// The sample times.
+    pub t: Vec<f64>,
+    /// Each observable's name and values, in the order asked for.
+    pub columns: Vec<(String, Vec<f64>)>,
+}
+
+impl ObservablesView {
+    /// Empty columns for `names`, room for `points` samples.
+    pub fn new(names: &[String], points: usize) -> Self {
+        Self {
+            t: Vec::with_capacity(points),
+            columns: names.iter().map(|n| (n.clone(), Vec::with_capacity(points))).collect(),
+        }
+    }
+
+    /// Adds a sample: its time and the observables' values in order.
+    pub fn push(&mut self, t: f64, values: &[f64]) {
+        self.t.push(t);
+        for ((_, column), &x) in self.columns.iter_mut().zip(values) {
+            column.push(x);
+        }
+    }
+}
+
+impl Serialize for ObservablesView {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut map = s.serialize_map(Some(self.columns.len() + 1))?;
+        map.serialize_entry("t", &self.t)?;
+        for (name, column) in &self.columns {
+            map.serialize_entry(name, column)?;
+        }
+        map.end()
+    }
+}
