@@ -6,7 +6,9 @@
 // scorecard or map cell opens its scene here. "Custom system" in the system select opens the
 // formula editor, filled from the system shown or from the built-in its "Start from" select
 // picks, in the paper's form or the general one (the form's moves between states are in
-// transitions.js). The results say whether the scene's system is in the paper's class.
+// transitions.js). The results say whether the scene's system is in the paper's class. Under
+// the error plots, the Trajectory and Section panels draw each run's observables and its
+// Poincaré section, which the run asks for with the panels' picks.
 
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
@@ -26,12 +28,17 @@ import { customized, experiment, presetSwitched, sceneOpened, startedFrom, syste
 import { download } from './dom.js';
 import { fieldLabel } from './labels.js';
 import { progressNote } from './timing.js';
+import { dynamicsSystem } from './dynamics.js';
+import { TrajectoryPanel } from './trajectory.js';
+import { SectionPanel } from './section.js';
 
 const $ = (id) => document.getElementById(id);
 
 let catalog;
 let form;
 let plots;
+let trajectory;
+let section;
 let result = null;
 let controller = null;
 let frame = 0;
@@ -49,9 +56,13 @@ async function start() {
   }
   form = new Form(catalog);
   plots = new Plots($('plots'), { catalog, caption: (scene) => sceneCaption(scene, catalog), stem: (scene) => sceneStem(scene, catalog) });
+  const panel = { catalog, caption: (scene) => sceneCaption(scene, catalog), stem: (scene) => sceneStem(scene, catalog) };
+  trajectory = new TrajectoryPanel($('dynamics'), panel);
+  section = new SectionPanel($('dynamics'), panel);
   experimentButtons();
   const { state, warnings } = decodeState(location.search, catalog);
   form.fill(state);
+  syncDynamics();
   if (warnings.length) banner($('load-error'), warnings.join('; '));
   wire();
   views.scorecard = new ScorecardView($('view-scorecard'), { catalog, onOpen: openScene });
@@ -147,6 +158,7 @@ function wire() {
     if (Object.hasOwn(views, wanted ?? '')) setView(wanted);
     else {
       form.fill(decodeState(location.search, catalog).state);
+      syncDynamics();
       setView('main');
     }
   });
@@ -160,6 +172,7 @@ function wire() {
     else if (id === 'preset') form.fill(presetSwitched(catalog, form.read().state));
     else if (id === 'custom-start') startFrom($('custom-start').value);
     form.renumber();
+    syncDynamics();
     if (['stat', 'smooth', 'window'].includes(id)) {
       plots.resetFloor();
       draw();
@@ -196,6 +209,13 @@ function startFrom(value) {
   $('custom-start').value = value;
 }
 
+// The panels' pickers follow the form's system (its defaults when it changes).
+function syncDynamics() {
+  const sys = dynamicsSystem(catalog, form.read().state.system);
+  trajectory.setSystem(sys);
+  section.setSystem(sys);
+}
+
 function syncURL(run = false) {
   const { state } = form.read();
   history.replaceState(null, '', `?${encodeState({ ...state, run }, catalog)}`);
@@ -203,6 +223,7 @@ function syncURL(run = false) {
 
 async function run() {
   form.clearErrors();
+  section.showError(null);
   $('run-error').hidden = true;
   const { state, invalid } = form.read();
   if (invalid.length) {
@@ -222,15 +243,19 @@ async function run() {
   let finished = false;
   let shutdown = null;
   stepNote = '';
+  syncDynamics();
+  const body = { ...requestBody(state, catalog), ...trajectory.request(), ...section.request() };
   try {
     // A busy server (503) is waited out as the other views do.
-    await retrying(() => simulate(requestBody(state, catalog), {
+    await retrying(() => simulate(body, {
       signal: mine.signal,
       onEvent: (name, data) => {
         if (controller !== mine) return;
         if (name === 'scene') {
           result = new Result(data);
           plots.reset(result);
+          trajectory.reset(result);
+          section.reset(result);
           $('scene-class').textContent = paperClassLine(data.paper_class);
           $('scene-class').dataset.member = String(Boolean(data.paper_class?.member));
           $('scene-class').hidden = !data.paper_class;
@@ -243,6 +268,8 @@ async function run() {
           status('running', `Running${stepNote}…`);
         } else if (name === 'progress') result?.progress(data);
         else if (name === 'points') result?.addPoints(data);
+        else if (name === 'observables') result?.addObservables(data);
+        else if (name === 'section') result?.addSection(data);
         else if (name === 'run') result?.finishRun(data);
         else if (name === 'done') finished = true;
         else if (name === 'shutdown') shutdown = data;
@@ -269,7 +296,7 @@ async function run() {
       result?.interrupt('cancelled');
       status('cancelled', 'Cancelled.');
     } else if (e instanceof ApiError) {
-      const placed = form.showError(e.path, e.message);
+      const placed = form.showError(e.path, e.message) || section.showError(e.path, e.message);
       const where = e.path ? ` (field “${fieldLabel(e.path)}”)` : '';
       status('error', placed ? 'The server rejected a field: see the form.' : 'The server rejected the request.');
       banner($('run-error'), `${e.message}${where}`);
@@ -313,6 +340,8 @@ function draw() {
   plots.update({ stat: $('stat').value, window: smooth && window > 0 ? window : 0 });
   progress(result.fraction);
   renderRuns($('runs'), result, catalog);
+  trajectory.update();
+  section.update();
   if (controller) status('running', `Running${stepNote}… ${progressNote(result.elapsed, result.fraction)}.`);
 }
 

@@ -2,7 +2,8 @@
 // and its series, built by appending the `points` events. Exported as the JSON shape of
 // `POST /simulate` (so a download equals what a script would get) and as long-format CSV.
 // A run still going holds its steps so far and the time since the scene arrived (`live_ms`,
-// from its `progress` events), which a cancelled run keeps.
+// from its `progress` events), which a cancelled run keeps. Where asked for, a run's sampled
+// `observables` and its Poincaré `section` grow column by column from their events.
 
 export class Result {
   /** `now()`: a clock in ms (injectable for tests). */
@@ -26,7 +27,19 @@ export class Result {
       verdicts: null,
       gaps: {},
       series: Object.fromEntries(integrals.map((i) => [i, { t: [], mean: [], max: [] }])),
+      observables: null,
+      section: null,
     }));
+  }
+
+  /** Appends an `observables` event (`{run, t: [...], name: [...]}`). */
+  addObservables(ev) {
+    append(this.#run(ev.run), 'observables', ev);
+  }
+
+  /** Appends a `section` event (`{run, t: [...], x: [...]}`). */
+  addSection(ev) {
+    append(this.#run(ev.run), 'section', ev);
   }
 
   /** Appends a `points` event (scalars or arrays of new buckets). */
@@ -101,6 +114,8 @@ export class Result {
         series: Object.fromEntries(
           Object.entries(r.series).map(([k, s]) => [k, { ...s, verdict: r.verdicts?.[k] ?? null, gap: r.gaps?.[k] ?? null }]),
         ),
+        ...(r.observables ? { observables: r.observables } : {}),
+        ...(r.section ? { section: r.section } : {}),
       })),
     };
   }
@@ -122,6 +137,17 @@ export class Result {
     const run = this.runs[index];
     if (!run) throw new Error(`the server sent an event for run ${index}, but the scene has ${this.runs.length} runs`);
     return run;
+  }
+}
+
+// Appends an event's columns (every field but `run`) to the run's `part`.
+function append(run, part, ev) {
+  const cols = (run[part] ??= {});
+  for (const [key, v] of Object.entries(ev)) {
+    if (key === 'run') continue;
+    const col = (cols[key] ??= []);
+    if (Array.isArray(v)) for (const x of v) col.push(x);
+    else col.push(v);
   }
 }
 

@@ -1,6 +1,6 @@
 // A stand-in for a canvas 2D context that writes SVG: the subset of CanvasRenderingContext2D
-// the heat map draws with (rectangles, text, paths, a clip, a linear gradient, save/restore,
-// translate/rotate). Drawing code written once for the canvas then also gives a vector file.
+// the heat map and the x–y plots draw with (rectangles, text, paths with circles, a dash, a
+// clip, a linear gradient, save/restore, translate/rotate). Drawing code written once for the canvas then also gives a vector file.
 // Pure (no DOM), so node tests cover it. A device-pixel scale set with `setTransform` is
 // ignored: the SVG is in CSS pixels.
 
@@ -43,6 +43,7 @@ export class SvgContext {
       textBaseline: 'alphabetic',
       transform: [],
       clip: null,
+      dash: [],
     };
   }
 
@@ -50,7 +51,7 @@ export class SvgContext {
   clearRect() {}
 
   save() {
-    this.stack.push({ ...this.state, transform: [...this.state.transform] });
+    this.stack.push({ ...this.state, transform: [...this.state.transform], dash: [...this.state.dash] });
   }
 
   restore() {
@@ -84,6 +85,19 @@ export class SvgContext {
     this.path += `L${n(x)} ${n(y)}`;
   }
 
+  /** A whole circle (the markers' only arc). */
+  arc(x, y, r) {
+    this.path += `M${n(x + r)} ${n(y)}A${n(r)} ${n(r)} 0 1 0 ${n(x - r)} ${n(y)}A${n(r)} ${n(r)} 0 1 0 ${n(x + r)} ${n(y)}`;
+  }
+
+  closePath() {
+    this.path += 'Z';
+  }
+
+  setLineDash(dash) {
+    this.state.dash = [...(dash ?? [])];
+  }
+
   rect(x, y, w, h) {
     this.path += `M${n(x)} ${n(y)}h${n(w)}v${n(h)}h${n(-w)}Z`;
   }
@@ -98,7 +112,8 @@ export class SvgContext {
   }
 
   stroke() {
-    this.#emit(`<path d="${this.path}" fill="none" stroke="${this.#paint(this.state.strokeStyle)}" stroke-width="${n(this.state.lineWidth)}"`);
+    const dash = this.state.dash.length ? ` stroke-dasharray="${this.state.dash.map(n).join(' ')}"` : '';
+    this.#emit(`<path d="${this.path}" fill="none" stroke="${this.#paint(this.state.strokeStyle)}" stroke-width="${n(this.state.lineWidth)}"${dash}`);
   }
 
   fill() {

@@ -61,12 +61,16 @@
 //!     orientation from the URL; 0 step sizes is refused at the "Step sizes" field, the
 //!     previous plots marked stale (`work-precision-zero-steps.png`); a list of steps runs
 //!     those steps, a 0 in it refused at its field; Cancel stops a long request.
+//! 14. the Trajectory and Section panels draw the rotating, perturbed CVT's phase portrait
+//!     and Poincaré section (x1, x2) with a series per method, a legend in the error plot's
+//!     colours and markers, and the section exports as PNG and SVG (`dynamics.png`).
 //!
 //! Chromium and chromedriver are required, not optional: without them the test fails and
 //! says how to install them. `NHLAB_CHROMIUM` / `NHLAB_CHROMEDRIVER` override their paths.
 
 mod custom;
 mod driver;
+mod dynamics;
 mod explore;
 mod export;
 mod general;
@@ -78,6 +82,7 @@ mod widths;
 
 use custom::custom_system;
 use driver::{Driver, required};
+use dynamics::dynamics_panels;
 use explore::{
     bad_parameter_link, cancel, composition, failed_runs, form_in_the_url, gap_message, knife_edge,
 };
@@ -128,5 +133,6 @@ async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), S
     map_view(client, driver, base).await?;
     window_widths(client, driver, base).await?;
     plot_export(client, driver, base).await?;
-    work_precision_controls(client, driver, base).await
+    work_precision_controls(client, driver, base).await?;
+    dynamics_panels(client, driver, base).await
 }
