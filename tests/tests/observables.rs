@@ -179,12 +179,8 @@ async fn a_sections_crossings_are_the_latitudes_on_the_same_surface() {
             .iter()
             .map(|x| x.as_f64().unwrap())
             .collect();
-        let crossings: Vec<f64> = run["section"]["t"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_f64().unwrap())
-            .collect();
+        let crossings: Vec<f64> =
+            run["section"]["t"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
         assert!(latitude.len() > 10, "{latitude:?}");
         assert_eq!(crossings.len(), latitude.len(), "{crossings:?} {latitude:?}");
         // The latitude interpolates linearly in ζ (O(h²)), the section along a cubic: they

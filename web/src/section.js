@@ -3,6 +3,8 @@
 // method's look. The surface is a formula (coordinates, velocities, t, parameters); the run
 // sends it with the two quantities, so changing them takes another run, and the panel says
 // so. A server error at `section.…` is shown under the panel's controls.
+// The section is asked for only when its box is ticked: the server then evaluates the surface
+// after every step, which takes a run up to 2–3 times as long.
 
 import { el, option, textInput } from './dom.js';
 import { sectionFor, xyColumns, xyCSV } from './dynamics.js';
@@ -32,8 +34,13 @@ export class SectionPanel {
     this.y = picker('section-y', 'y axis');
     this.error = el('p', 'field-error dyn-error');
     this.error.hidden = true;
-    this.card.controls.append(surface, direction.label, this.x.label, this.y.label, this.error);
-    for (const input of [this.surface, this.direction, this.x.select, this.y.select]) {
+    const on = el('label', 'dyn-pick dyn-on');
+    this.on = el('input', 'section-on');
+    this.on.type = 'checkbox';
+    on.title = 'Each step is checked for a crossing: runs take up to 2–3 times as long.';
+    on.append(this.on, el('span', '', 'compute with the next run'));
+    this.card.controls.append(on, surface, direction.label, this.x.label, this.y.label, this.error);
+    for (const input of [this.on, this.surface, this.direction, this.x.select, this.y.select]) {
       input.addEventListener('change', () => {
         this.showError(null);
         this.update();
@@ -57,14 +64,14 @@ export class SectionPanel {
   }
 
   #picks() {
-    return { surface: this.surface.value, direction: this.direction.value, x: this.x.select.value, y: this.y.select.value };
+    return { on: this.on.checked, surface: this.surface.value, direction: this.direction.value, x: this.x.select.value, y: this.y.select.value };
   }
 
-  /** The request's `section` (none without a surface). */
+  /** The request's `section` (none unless ticked, nor without a surface). */
   request() {
     const picks = this.#picks();
     this.pending = null;
-    if (!this.system?.quantities.length || !picks.surface.trim()) return {};
+    if (!picks.on || !this.system?.quantities.length || !picks.surface.trim()) return {};
     this.pending = picks;
     return { section: sectionFor(picks) };
   }
@@ -93,7 +100,7 @@ export class SectionPanel {
     // What was computed is drawn; the note says when the controls ask for something else.
     const x = sent?.x ?? now.x;
     const y = sent?.y ?? now.y;
-    const changed = sent && (sent.surface !== now.surface || sent.direction !== now.direction || sent.x !== now.x || sent.y !== now.y);
+    const changed = now.on && (!sent || sent.surface !== now.surface || sent.direction !== now.direction || sent.x !== now.x || sent.y !== now.y);
     const where = sent ? `${sent.surface} = 0, ${sent.direction === 'both' ? 'both ways' : sent.direction}` : '';
     this.card.sub.textContent = sent ? `at each crossing of ${where}` : 'at each crossing of surface = 0';
     this.card.card.dataset.x = x;
@@ -103,7 +110,7 @@ export class SectionPanel {
       mode: 'points',
       xLabel: x,
       yLabel: y,
-      empty: sent ? 'No crossing yet.' : 'No section was asked for: give a surface and run.',
+      empty: sent ? 'No crossing yet.' : 'No section was asked for: tick “compute with the next run” and run again.',
       describe: () => ({
         title: `Poincaré section: ${y} against ${x}`,
         caption: `${this.caption(result.scene)}${where ? `; crossings of ${where}` : ''}`,

@@ -23,6 +23,16 @@ pub(crate) async fn dynamics_panels(
     client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
     let (state, text) = wait_for_status(client).await?;
     assert_eq!(state, "done", "{text}");
+    // The section is computed only when asked for (it checks every step): ticked, and run
+    // again; the section's first crossings say the new run is in.
+    let asked = js(client, "return document.querySelector('.dyn-card[data-panel=\"section\"]').xy.drawn.reduce((n, s) => n + s.points, 0);").await?;
+    assert_eq!(asked, json!(0), "no section before it is ticked");
+    click(client, ".section-on").await?;
+    click(client, "#run").await?;
+    let drawn = "const d = document.querySelector('.dyn-card[data-panel=\"section\"]').xy.drawn; \
+                 return d.length === 5 && d.every((s) => s.points >= 10) && \
+                 document.getElementById('status').dataset.state === 'done' ? true : null;";
+    poll(client, drawn, Duration::from_secs(60)).await?;
     js(client, "document.getElementById('dynamics').scrollIntoView();").await?;
     let shot = screenshot(client, "dynamics.png").await;
     let report = js(client, REPORT).await?;
