@@ -25,13 +25,11 @@ pub use budget::{
 pub use cache::{CAPACITY, Cache, Caches, ReferenceKey, SceneKey};
 pub use cancel::{Cancel, CancelOnDrop};
 pub use plan::{
-    ADVICE, Delivery, Plan, SectionPlan, check_answer_bytes, method, methods, points, priced,
-    steps_of, steps_text,
+    ADVICE, Delivery, PROGRESS_EVERY, Plan, SectionPlan, check_answer_bytes, method, methods,
+    points, priced, run_config, steps_of, steps_text,
 };
 pub use price::{Priced, about, check_price, duration};
-pub use runner::{
-    Finished, PROGRESS_EVERY, Runner, lower_priority, off_runtime, run_config, time_limit,
-};
+pub use runner::{Finished, Runner, lower_priority, off_runtime, time_limit};
 pub use scorecard::{MAX_SCENES, PROPERTY_STEPS, plans as scorecard_plans};
 pub use slot::Slot;
 pub use thread_clock::{ThreadClock, millis};

@@ -10,7 +10,8 @@ use crate::views::SceneView;
 use nhlab_core::catalogue::cost::run_cost;
 use nhlab_core::measure::observables::Observables;
 use nhlab_core::measure::section::{Direction, Section};
-use nhlab_core::{InputError, Method, MethodSpec, PreparedScene, Scene, Short};
+use nhlab_core::{InputError, Method, MethodSpec, PreparedScene, RunConfig, Scene, Short};
+use std::time::Duration;
 
 /// Bytes an observable's sampled value holds: 8 as a number, ~24 as JSON text.
 pub const OBSERVABLE_BYTES_PER_VALUE: u64 = 32;
@@ -210,8 +211,8 @@ impl Plan {
 
     /// How each run of this plan reports: `points` buckets, its observables sampled at as
     /// many times, paced by the clock, and ended past `limit`.
-    pub fn run_config(&self, limit: Option<std::time::Duration>) -> nhlab_core::RunConfig {
-        let mut cfg = super::run_config(self.points, limit);
+    pub fn run_config(&self, limit: Option<Duration>) -> RunConfig {
+        let mut cfg = run_config(self.points, limit);
         if self.observables.is_some() {
             cfg.samples = self.points;
         }
@@ -283,6 +284,26 @@ fn section_plan(
     };
     let max_crossings = usize::try_from(max_crossings).unwrap_or(usize::MAX);
     Ok(SectionPlan { section: Section { surface, plot, direction }, max_crossings })
+}
+
+/// Most steps between two looks at the cancellation flag (and the clock, for progress):
+/// microseconds of a built-in's steps; fewer where they would take longer than a few
+/// milliseconds ([`run_config`]).
+pub const PROGRESS_EVERY: u64 = 1024;
+
+/// How every run of the server reports: `points` buckets per series, progress every
+/// [`PROGRESS_EVERY`] steps or paced by the clock where those take longer than a few
+/// milliseconds (a look at the cancellation flag at least that often), and the time limit
+/// `limit` ([`time_limit`]), if any.
+pub fn run_config(points: usize, limit: Option<Duration>) -> RunConfig {
+    RunConfig {
+        points,
+        progress_every: PROGRESS_EVERY,
+        paced: true,
+        time_limit: limit,
+        samples: 0,
+        every_step: false,
+    }
 }
 
 /// `runs` runs of `m` on `scene`, priced.

@@ -9,8 +9,8 @@
 //! Cancellation: a [`Cancel`](crate::compute::Cancel) flag, set when the client goes away
 //! (the handler's future or the stream is dropped, see
 //! [`CancelOnDrop`](crate::compute::CancelOnDrop)) or the server shuts down, and checked by
-//! the observers at every progress call. A run is paced ([`run_config`]): the core calls its
-//! observer every [`PROGRESS_EVERY`] steps, or about every
+//! the observers at every progress call. A run is paced ([`run_config`](crate::compute::run_config)): the core calls its
+//! observer every [`PROGRESS_EVERY`](crate::compute::PROGRESS_EVERY) steps, or about every
 //! [`AIM`](nhlab_core::measure::pace::AIM) where those steps would take longer (a built-in's
 //! step costs 50 ns, a heavy formula system's milliseconds), so a run notices within a few
 //! milliseconds whatever its system; and it ends as failed past `max_run_seconds`.
@@ -19,30 +19,10 @@ use crate::compute::{ActiveRuns, Plan, Slot, ThreadClock, millis};
 use crate::config::Config;
 use crate::error::AppError;
 use crate::views::{MethodView, RunSummary};
-use nhlab_core::{Observer, RunConfig, RunOutcome};
+use nhlab_core::{Observer, RunOutcome};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::{Duration, Instant};
 use tokio::task::JoinHandle;
-
-/// Most steps between two looks at the cancellation flag (and the clock, for progress):
-/// microseconds of a built-in's steps; fewer where they would take longer than a few
-/// milliseconds ([`run_config`]).
-pub const PROGRESS_EVERY: u64 = 1024;
-
-/// How every run of the server reports: `points` buckets per series, progress every
-/// [`PROGRESS_EVERY`] steps or paced by the clock where those take longer than a few
-/// milliseconds (a look at the cancellation flag at least that often), and the time limit
-/// `limit` ([`time_limit`]), if any.
-pub fn run_config(points: usize, limit: Option<Duration>) -> RunConfig {
-    RunConfig {
-        points,
-        progress_every: PROGRESS_EVERY,
-        paced: true,
-        time_limit: limit,
-        samples: 0,
-        every_step: false,
-    }
-}
 
 /// `max_run_seconds` as a duration (a limit too large for one is as good as none).
 pub fn time_limit(config: &Config) -> Duration {
