@@ -185,10 +185,13 @@ def scorecard(methods=None, scenes=None, points=None):
 
 
 def work_precision(system, preset=None, params=None, q=None, v=None, step=None, t_end=None,
-                   methods=None, integrals=None, steps=None, levels=None, repeats=None):
+                   methods=None, integrals=None, steps=None, levels=None, repeats=None,
+                   observables=None):
     """`POST /work-precision`: each method's final error against a Dop853 reference and its
     run time, at step sizes `steps` (a list) or h, h/2, … (`levels`, default 4), the fastest
-    of `repeats` (default 3). Returns the answer as a dict (rows per method × step)."""
+    of `repeats` (default 3). `observables` (formulas by name, as for `simulate`) are taken
+    at t_end for each row and the reference. Returns the answer as a dict (rows per method ×
+    step)."""
     body = _scene(system, preset, params, q, v, step, t_end, integrals)
     if methods is not None:
         body["methods"] = list(methods)
@@ -196,6 +199,8 @@ def work_precision(system, preset=None, params=None, q=None, v=None, step=None, 
         body["steps"] = _floats(steps)
     if levels is not None:
         body["levels"] = int(levels)
+    if observables is not None:
+        body["observables"] = {str(k): str(f) for k, f in dict(observables).items()}
     if repeats is not None:
         body["repeats"] = int(repeats)
     return _json.loads(_call("POST", "/work-precision", body))

@@ -79,6 +79,7 @@ def work_precision(
     steps: Sequence[float] | None = ...,
     levels: int | None = ...,
     repeats: int | None = ...,
+    observables: Mapping[str, str] | None = ...,
 ) -> dict[str, Any]: ...
 def sweep(
     spec: Mapping[str, Any] | None = ...,

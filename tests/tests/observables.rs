@@ -263,3 +263,37 @@ async fn a_section_that_is_wrong_is_refused_at_its_field() {
     assert_eq!(status, 200, "{answer}");
     assert!(answer["runs"][0]["section"]["speed"].is_array(), "{answer}");
 }
+
+#[tokio::test]
+async fn work_precision_takes_the_observables_at_t_end_for_each_row_and_the_reference() {
+    let s = TestServer::start().await;
+    // The vertical disk's reference is its exact solution.
+    let body = json!({"system": "vertical_disk", "preset": "odelab", "t_end": 3.0,
+                      "methods": ["rattle"], "steps": [0.01, 0.001], "repeats": 1,
+                      "observables": {"x": "x", "r2": "x^2 + (y - R/2)^2"}});
+    let (status, answer) = s.post_json("/work-precision", &body).await;
+    assert_eq!(status, 200, "{answer}");
+    let exact = disk_exact(3.0);
+    let reference = &answer["reference"]["observables"];
+    assert!((reference["x"].as_f64().unwrap() - exact[0]).abs() < 1e-14, "{reference}");
+    assert!((reference["r2"].as_f64().unwrap() - 0.25).abs() < 1e-14, "{reference}");
+    let errors: Vec<f64> = answer["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|row| {
+            let x = row["observables"]["x"].as_f64().unwrap();
+            // Within the row's final error of the reference.
+            let final_error = row["final_error"].as_f64().unwrap();
+            assert!((x - exact[0]).abs() <= final_error * (1.0 + 1e-9), "{row}");
+            (x - exact[0]).abs()
+        })
+        .collect();
+    // Second order: ten times the steps, a hundred times less error.
+    assert!(errors[1] < errors[0] / 50.0, "{errors:?}");
+    // An error names its field.
+    let mut bad = body.clone();
+    bad["observables"] = json!({"x": "x^"});
+    let (status, error) = s.post_json("/work-precision", &bad).await;
+    assert_eq!((status, &error["path"]), (422, &json!("observables.x")), "{error}");
+}

@@ -30,6 +30,8 @@ pub struct Row {
     pub max_error: BTreeMap<Integral, f64>,
     /// Why the run failed, if it did.
     pub error: Option<String>,
+    /// The state (q, q̇) at t_end, in the user's order; `None` when the run failed.
+    pub end: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 /// The reference and its cost.
@@ -157,5 +159,6 @@ pub fn measure_within(
         final_error,
         max_error: watch.max,
         error: out.error.map(|e| e.to_string()),
+        end: watch.end,
     }
 }

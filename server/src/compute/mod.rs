@@ -26,7 +26,7 @@ pub use cache::{CAPACITY, Cache, Caches, ReferenceKey, SceneKey};
 pub use cancel::{Cancel, CancelOnDrop};
 pub use plan::{
     ADVICE, Delivery, PROGRESS_EVERY, Plan, SectionPlan, check_answer_bytes, method, methods,
-    points, priced, run_config, steps_of, steps_text,
+    observables_of, points, priced, run_config, steps_of, steps_text,
 };
 pub use price::{Priced, about, check_price, duration};
 pub use runner::{Finished, Runner, lower_priority, off_runtime, time_limit};

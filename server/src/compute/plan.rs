@@ -5,7 +5,7 @@
 use crate::compute::{Caches, JSON_BYTES_PER_POINT, Priced, answer_bytes, check_price, mib};
 use crate::config::Config;
 use crate::error::AppError;
-use crate::request::{MethodRequest, SectionRequest, SimulateRequest};
+use crate::request::{MethodRequest, ObservablesRequest, SectionRequest, SimulateRequest};
 use crate::views::SceneView;
 use nhlab_core::catalogue::cost::run_cost;
 use nhlab_core::measure::observables::Observables;
@@ -129,22 +129,7 @@ impl Plan {
         let scene = SceneView::of(&prepared, &methods, points);
         let not_applicable =
             methods.iter().map(|m| prepared.check_method(m).err().map(|e| e.to_string())).collect();
-        let observables = match &req.observables {
-            None => None,
-            Some(given) if given.0.is_empty() => {
-                return Err(AppError::invalid(
-                    "observables",
-                    "observables must not be empty; leave it out to sample none",
-                ));
-            }
-            Some(given) => {
-                let system = &prepared.scene.system;
-                let coordinates = system.coordinate_names();
-                let params = prepared.scene.named_params();
-                let limits = &config.formulas.formula;
-                Some(Arc::new(Observables::compile(&given.0, &coordinates, &params, limits)?))
-            }
-        };
+        let observables = observables_of(req.observables.as_ref(), &prepared, config)?;
         let section = match &req.section {
             None => None,
             Some(given) => Some(Arc::new(section_plan(given, req, &prepared, config)?)),
@@ -219,6 +204,26 @@ impl Plan {
         cfg.every_step = self.section.is_some();
         cfg
     }
+}
+
+/// Checks and compiles a request's `observables` for its scene's system (errors at
+/// `observables.NAME`); none when none are asked for.
+pub fn observables_of(
+    given: Option<&ObservablesRequest>,
+    prepared: &PreparedScene,
+    config: &Config,
+) -> Result<Option<Arc<Observables>>, AppError> {
+    let Some(given) = given else { return Ok(None) };
+    if given.0.is_empty() {
+        return Err(AppError::invalid(
+            "observables",
+            "observables must not be empty; leave it out to sample none",
+        ));
+    }
+    let coordinates = prepared.scene.system.coordinate_names();
+    let params = prepared.scene.named_params();
+    let limits = &config.formulas.formula;
+    Ok(Some(Arc::new(Observables::compile(&given.0, &coordinates, &params, limits)?)))
 }
 
 /// Checks and compiles a section: the surface (errors at `section.surface`), each plotted

@@ -3,12 +3,14 @@
 //! scene's step), the repetitions, every run's steps within `max_steps_json` and their CPU
 //! within `max_request_seconds`.
 
-use super::{Caches, Delivery, Plan, Priced, check_price};
+use super::{Caches, Delivery, Plan, Priced, check_price, observables_of};
 use crate::config::Config;
 use crate::error::AppError;
 use crate::request::{SimulateRequest, WorkPrecisionRequest};
 use nhlab_core::catalogue::cost::run_cost_of;
+use nhlab_core::measure::observables::Observables;
 use nhlab_core::{Scene, SceneRequest, Short};
+use std::sync::Arc;
 
 /// Most step sizes per request (`levels`, or entries of `steps`).
 pub const MAX_LEVELS: usize = 12;
@@ -28,6 +30,8 @@ pub struct WorkPrecisionJob {
     pub steps: Vec<f64>,
     /// Timing repetitions per run.
     pub repeats: u32,
+    /// The quantities taken at t_end, if any were asked for.
+    pub observables: Option<Arc<Observables>>,
 }
 
 impl WorkPrecisionJob {
@@ -100,7 +104,8 @@ impl WorkPrecisionJob {
             .collect();
         let advice = "use fewer or larger steps, fewer repeats or methods, or a shorter t_end";
         check_price(&priced, config, field, advice)?;
-        Ok(Self { plan, steps, repeats: repeats as u32 })
+        let observables = observables_of(req.observables.as_ref(), &plan.prepared, config)?;
+        Ok(Self { plan, steps, repeats: repeats as u32, observables })
     }
 }
 

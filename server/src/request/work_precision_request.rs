@@ -1,7 +1,7 @@
 //! [`WorkPrecisionRequest`]: the body of `POST /work-precision`, a scene, methods and the step
 //! sizes to measure.
 
-use crate::request::{MethodRequest, scene_body, schemas};
+use crate::request::{MethodRequest, ObservablesRequest, scene_body, schemas};
 
 scene_body! {
     /// The body of `POST /work-precision`: a `/simulate` scene and methods (without
@@ -28,5 +28,10 @@ scene_body! {
         #[serde(default)]
         #[schema(minimum = 1, maximum = 10)]
         pub repeats: Option<i64>,
+        /// Quantities to take at t_end, by name, as in `/simulate`: each row and the
+        /// reference get their values there (`observables`).
+        #[serde(default)]
+        #[schema(schema_with = schemas::observables)]
+        pub observables: Option<ObservablesRequest>,
     }
 }

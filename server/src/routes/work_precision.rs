@@ -24,7 +24,7 @@ use crate::error::{AppError, ErrorBody};
 use crate::json_object::JsonObject;
 use crate::request::WorkPrecisionRequest;
 use crate::state::AppState;
-use crate::views::{ReferenceView, Status, WorkPrecisionResponse, WorkPrecisionRow};
+use crate::views::{ReferenceView, Status, ValuesView, WorkPrecisionResponse, WorkPrecisionRow};
 use axum::Json;
 use axum::extract::State;
 use nhlab_core::Short;
@@ -142,6 +142,7 @@ fn compute(
         ),
         e => AppError::invalid("t_end", format!("{e}, at tolerance {TOL:e}; try a shorter t_end")),
     })?;
+    let t_end = prepared.scene.t_end;
     let mut rows = Vec::with_capacity(job.plan.methods.len() * job.steps.len());
     for (method, view) in job.plan.methods.iter().zip(&job.plan.scene.methods) {
         for &h in &job.steps {
@@ -167,6 +168,10 @@ fn compute(
                 max_error,
                 status: if row.error.is_none() { Status::Ok } else { Status::Failed },
                 error: row.error,
+                observables: job.observables.as_deref().map(|o| match &row.end {
+                    Some((q, v)) => ValuesView::at(o, t_end, q, v),
+                    None => ValuesView(o.names().iter().map(|n| (n.clone(), f64::NAN)).collect()),
+                }),
             });
         }
     }
@@ -179,6 +184,10 @@ fn compute(
             constraint_residual: r.state.constraint_residual,
             cached,
             exact: r.exact,
+            observables: job
+                .observables
+                .as_deref()
+                .map(|o| ValuesView::at(o, t_end, &r.state.q, &r.state.v)),
         },
         rows,
     })

@@ -29,7 +29,7 @@ pub use events::{
 pub use gap::GapView;
 pub use health::{CacheStats, CachesStats, FormulasHealth, Health};
 pub use method::MethodView;
-pub use observables::ObservablesView;
+pub use observables::{ObservablesView, ValuesView};
 pub use run::RunView;
 pub use run_summary::RunSummary;
 pub use scene::SceneView;

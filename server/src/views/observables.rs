@@ -1,6 +1,7 @@
 //! [`ObservablesView`]: a run's sampled observables as columns, `{"t": [...], "theta":
 //! [...], ...}`: the sample times first, then each observable in the order asked for.
 
+use nhlab_core::measure::observables::Observables;
 use serde::Serialize;
 use serde::ser::SerializeMap;
 
@@ -30,6 +31,30 @@ impl ObservablesView {
         for ((_, column), &x) in self.columns.iter_mut().zip(values) {
             column.push(x);
         }
+    }
+}
+
+/// Observables at one time, by name in the order asked for (a value that is not finite is
+/// null): a work–precision row's at t_end.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ValuesView(pub Vec<(String, f64)>);
+
+impl ValuesView {
+    /// `observables` at time t and state (q, q̇).
+    pub fn at(observables: &Observables, t: f64, q: &[f64], v: &[f64]) -> Self {
+        let mut out = vec![0.0; observables.names().len()];
+        observables.eval(t, q, v, &mut observables.scratch(), &mut out);
+        Self(observables.names().iter().cloned().zip(out).collect())
+    }
+}
+
+impl Serialize for ValuesView {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut map = s.serialize_map(Some(self.0.len()))?;
+        for (name, x) in &self.0 {
+            map.serialize_entry(name, &x.is_finite().then_some(*x))?;
+        }
+        map.end()
     }
 }
 

@@ -1,7 +1,7 @@
 //! The views of `POST /work-precision`: [`WorkPrecisionResponse`], the [`ReferenceView`] the
 //! errors are measured against and one [`WorkPrecisionRow`] per method × step.
 
-use crate::views::{MethodView, SceneView, Status};
+use crate::views::{MethodView, SceneView, Status, ValuesView};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use utoipa::ToSchema;
@@ -34,6 +34,10 @@ pub struct ReferenceView {
     /// Whether it is the system's exact solution (the vertical disk's), not Dop853's: then
     /// it costs nothing, and its evaluations and steps are 0.
     pub exact: bool,
+    /// The observables asked for, at t_end; absent when none were.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<Object>, example = json!({"x": 0.1}))]
+    pub observables: Option<ValuesView>,
 }
 
 /// One method at one step.
@@ -56,4 +60,9 @@ pub struct WorkPrecisionRow {
     pub status: Status,
     /// Why it failed, or null.
     pub error: Option<String>,
+    /// The observables asked for, at t_end (null values for a run that failed); absent when
+    /// none were.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<Object>, example = json!({"x": 0.1}))]
+    pub observables: Option<ValuesView>,
 }
