@@ -49,7 +49,7 @@ pub struct GeneralSystem {
     /// M: a diagonal list or an N×N symmetric matrix of numbers or formulas in the
     /// parameters; the identity when absent.
     #[serde(skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<Vec<Object>>)]
+    #[schema(value_type = Option<Vec<serde_json::Value>>)]
     pub mass: Option<MassField>,
     /// V(q): coordinates and parameters.
     pub potential: String,
