@@ -37,28 +37,13 @@ import subprocess
 import sys
 import time
 
+from formula_sweep import large_system, sweep as formula_sweep
+
 MIXED = 50
 SLOW = 100
 STALLED = 20
 FLOOD = 250
 FORMULA = 4
-
-
-def large_system():
-    """A ~1,950-character U reading the parameter `k` (as bench/formula_sweep.py)."""
-    terms, i = [], 0
-    while len("+".join(terms)) < 1900:
-        terms.append(f"0.{i % 9 + 1}*cos(x1*{i % 7 + 1}+x2/{i % 5 + 2})")
-        i += 1
-    return {"name": "large", "passenger": ["x1", "x2"], "driver": "z", "parameters": {"k": 1},
-            "passenger_potential": "k*x1^2 + " + "+".join(terms),
-            "driver_potential": "z^2/2", "constraints": [["cos(z)", "sin(z)"]]}
-
-
-def formula_sweep(cells, step):
-    return {"system": large_system(), "q": [0.1, 0.2, 0.3], "v": [0, 0, 1], "step": step,
-            "t_end": 0.01, "methods": ["leapfrog"],
-            "axes": [{"path": "params.k", "linspace": [1, 2, cells]}]}
 
 
 def heavy_run(runs, t_end):

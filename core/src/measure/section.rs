@@ -32,28 +32,58 @@ pub struct Section {
     pub direction: Direction,
 }
 
-/// One run's pass over a section: the previous state, and scratch for the evaluations.
+/// One run's pass over a section: the previous state, the interpolated one and scratch for
+/// the evaluations.
 #[derive(Debug, Clone)]
 pub struct SectionTracker {
+    /// The previous step's end: t, q, q̇ and s there (`None` before the start).
     prev: Option<(f64, Vec<f64>, Vec<f64>, f64)>,
+    /// The state inside a step where the surface is evaluated.
+    inside: Inside,
+    plot: Scratch,
+}
+
+/// A state inside a step and the surface's value there.
+#[derive(Debug, Clone)]
+struct Inside {
     q: Vec<f64>,
     v: Vec<f64>,
     surface: Scratch,
-    plot: Scratch,
     s: [f64; 1],
+}
+
+impl Inside {
+    /// The surface at (t, q, q̇).
+    fn surface(&mut self, section: &Section, t: f64, q: &[f64], v: &[f64]) -> f64 {
+        section.surface.eval(t, q, v, &mut self.surface, &mut self.s);
+        self.s[0]
+    }
+
+    /// The surface at θ of the step from state 0 to state 1, the interpolated state kept.
+    fn surface_at(
+        &mut self,
+        section: &Section,
+        theta: f64,
+        (t0, q0, v0): (f64, &[f64], &[f64]),
+        (t1, q1, v1): (f64, &[f64], &[f64]),
+    ) -> f64 {
+        let h = t1 - t0;
+        hermite(theta, h, (q0, v0), (q1, v1), &mut self.q, &mut self.v);
+        section.surface.eval(t0 + theta * h, &self.q, &self.v, &mut self.surface, &mut self.s);
+        self.s[0]
+    }
 }
 
 impl SectionTracker {
     /// A tracker for states of `dof` coordinates.
     pub fn new(section: &Section, dof: usize) -> Self {
-        Self {
-            prev: None,
+        let inside = Inside {
             q: vec![0.0; dof],
             v: vec![0.0; dof],
             surface: section.surface.scratch(),
-            plot: section.plot.scratch(),
             s: [0.0],
-        }
+        };
+        Self { prev: None, inside, plot: section.plot.scratch() }
     }
 
     /// Takes the state at the end of a step (the start first); where the step from the
@@ -67,79 +97,66 @@ impl SectionTracker {
         v: &[f64],
         out: &mut [f64],
     ) -> Option<f64> {
-        section.surface.eval(t, q, v, &mut self.surface, &mut self.s);
-        let s1 = self.s[0];
-        let crossed = match &self.prev {
-            Some((_, _, _, s0)) => crosses(section.direction, *s0, s1),
-            None => false,
+        let s1 = self.inside.surface(section, t, q, v);
+        let Some((t0, q0, v0, s0)) = &mut self.prev else {
+            self.prev = Some((t, q.to_vec(), v.to_vec(), s1));
+            return None;
         };
         let mut found = None;
-        if crossed && let Some((t0, q0, v0, s0)) = self.prev.take() {
-            let tc = self.locate(section, (t0, &q0, &v0, s0), (t, q, v, s1));
-            section.plot.eval(tc, &self.q, &self.v, &mut self.plot, out);
+        if crosses(section.direction, *s0, s1) {
+            let tc = locate(section, &mut self.inside, (*t0, q0, v0, *s0), (t, q, v, s1));
+            section.plot.eval(tc, &self.inside.q, &self.inside.v, &mut self.plot, out);
             found = Some(tc);
-            self.prev = Some((t0, q0, v0, s0));
         }
-        match &mut self.prev {
-            Some((pt, pq, pv, ps)) => {
-                *pt = t;
-                pq.copy_from_slice(q);
-                pv.copy_from_slice(v);
-                *ps = s1;
-            }
-            None => self.prev = Some((t, q.to_vec(), v.to_vec(), s1)),
-        }
+        (*t0, *s0) = (t, s1);
+        q0.copy_from_slice(q);
+        v0.copy_from_slice(v);
         found
     }
+}
 
-    /// The crossing's time between two states with s of opposite signs (or s1 = 0); leaves
-    /// the interpolated state there in `self.q`, `self.v`.
-    fn locate(
-        &mut self,
-        section: &Section,
-        (t0, q0, v0, s0): (f64, &[f64], &[f64], f64),
-        (t1, q1, v1, s1): (f64, &[f64], &[f64], f64),
-    ) -> f64 {
-        let h = t1 - t0;
-        let s_at = |theta: f64, this: &mut Self| {
-            hermite(theta, h, (q0, v0), (q1, v1), &mut this.q, &mut this.v);
-            section.surface.eval(t0 + theta * h, &this.q, &this.v, &mut this.surface, &mut this.s);
-            this.s[0]
-        };
-        // Illinois: regula falsi that halves the value kept twice, to round-off.
-        let (mut a, mut fa, mut b, mut fb): (f64, f64, f64, f64) = (0.0, s0, 1.0, s1);
-        let mut side = 0;
-        let mut theta = 1.0;
-        for _ in 0..60 {
-            if fb == 0.0 || (b - a).abs() < 1e-15 {
-                break;
-            }
-            theta = (a * fb - b * fa) / (fb - fa);
-            if !theta.is_finite() {
-                theta = 0.5 * (a + b);
-            }
-            let f = s_at(theta, self);
-            if f == 0.0 {
-                break;
-            }
-            if (f > 0.0) == (fb > 0.0) {
-                (b, fb) = (theta, f);
-                if side == -1 {
-                    fa *= 0.5;
-                }
-                side = -1;
-            } else {
-                (a, fa) = (theta, f);
-                if side == 1 {
-                    fb *= 0.5;
-                }
-                side = 1;
-            }
+/// The crossing's time between two states with s of opposite signs (or s1 = 0), by regula
+/// falsi with the Illinois modification (the value kept twice halved), to round-off; leaves
+/// the interpolated state there in `inside`.
+fn locate(
+    section: &Section,
+    inside: &mut Inside,
+    (t0, q0, v0, s0): (f64, &[f64], &[f64], f64),
+    (t1, q1, v1, s1): (f64, &[f64], &[f64], f64),
+) -> f64 {
+    let (start, end) = ((t0, q0, v0), (t1, q1, v1));
+    let (mut a, mut fa, mut b, mut fb): (f64, f64, f64, f64) = (0.0, s0, 1.0, s1);
+    let mut side = 0;
+    let mut theta = 1.0;
+    for _ in 0..60 {
+        if fb == 0.0 || (b - a).abs() < 1e-15 {
+            break;
         }
-        // The state at the final θ, whichever branch ended the search.
-        s_at(theta, self);
-        t0 + theta * h
+        theta = (a * fb - b * fa) / (fb - fa);
+        if !theta.is_finite() {
+            theta = 0.5 * (a + b);
+        }
+        let f = inside.surface_at(section, theta, start, end);
+        if f == 0.0 {
+            break;
+        }
+        if (f > 0.0) == (fb > 0.0) {
+            (b, fb) = (theta, f);
+            if side == -1 {
+                fa *= 0.5;
+            }
+            side = -1;
+        } else {
+            (a, fa) = (theta, f);
+            if side == 1 {
+                fb *= 0.5;
+            }
+            side = 1;
+        }
     }
+    // The state at the final θ, whichever branch ended the search.
+    inside.surface_at(section, theta, start, end);
+    t0 + theta * (t1 - t0)
 }
 
 /// Whether s going from `s0` to `s1` crosses zero in `direction` (reaching zero counts,

@@ -4,14 +4,12 @@
 //! are kept once, in [`Verdicts`] (which needs them whole), and become [`SeriesView`] columns
 //! only at the end. Its counterpart for a stream is [`SseEmitter`](crate::observers::SseEmitter).
 
-use crate::compute::{Cancel, SectionPlan};
-use crate::observers::{Crossings, IntegralNames, Sampled, Verdicts};
+use crate::compute::{Cancel, Plan};
+use crate::observers::{IntegralNames, Recorded, Verdicts};
 use crate::views::{ObservablesView, SeriesView};
-use nhlab_core::measure::observables::Observables;
 use nhlab_core::{Bucket, Gap, Integral, Observer};
 use std::collections::BTreeMap;
 use std::ops::ControlFlow;
-use std::sync::Arc;
 
 /// Collects a run's series for a JSON answer.
 #[derive(Debug)]
@@ -21,10 +19,8 @@ pub struct JsonCollector {
     /// The buckets and initial values, by integral.
     pub verdicts: Verdicts,
     cancel: Cancel,
-    /// The observables sampled, with their columns so far.
-    observables: Option<Sampled>,
-    /// The section's crossings so far.
-    section: Option<Crossings>,
+    /// The observables and section crossings so far, where asked for.
+    recorded: Recorded,
 }
 
 impl JsonCollector {
@@ -34,31 +30,24 @@ impl JsonCollector {
             integrals: integrals.to_vec(),
             verdicts: Verdicts::new(names),
             cancel,
-            observables: None,
-            section: None,
+            recorded: Recorded::default(),
         }
     }
 
-    /// The same, sampling `observables` at up to `points` times.
-    pub fn sampling(mut self, observables: Option<&Arc<Observables>>, points: usize) -> Self {
-        self.observables = observables.map(|o| Sampled::new(o.clone(), points));
-        self
-    }
-
-    /// The same, recording `section`'s crossings.
-    pub fn crossing(mut self, section: Option<&Arc<SectionPlan>>, dof: usize) -> Self {
-        self.section = section.map(|s| Crossings::new(s.clone(), dof));
+    /// The same, recording what `plan` asks of each run (observables, a section).
+    pub fn recording(mut self, plan: &Plan) -> Self {
+        self.recorded = Recorded::of(plan);
         self
     }
 
     /// The observables' columns, if any were asked for.
     pub fn take_observables(&mut self) -> Option<ObservablesView> {
-        self.observables.take().map(|s| s.view)
+        self.recorded.observables.take().map(|s| s.view)
     }
 
     /// The section's columns, if one was asked for.
     pub fn take_section(&mut self) -> Option<ObservablesView> {
-        self.section.take().map(|s| s.view)
+        self.recorded.section.take().map(|s| s.view)
     }
 
     /// The series by integral id, each with its verdict (null for an empty series).
@@ -92,15 +81,11 @@ impl Observer for JsonCollector {
     }
 
     fn sample(&mut self, t: f64, q: &[f64], v: &[f64]) {
-        if let Some(sampled) = &mut self.observables {
-            sampled.push(t, q, v);
-        }
+        self.recorded.sample(t, q, v);
     }
 
     fn state(&mut self, t: f64, q: &[f64], v: &[f64]) {
-        if let Some(crossings) = &mut self.section {
-            crossings.observe(t, q, v);
-        }
+        self.recorded.state(t, q, v);
     }
 
     fn progress(&mut self, _steps_done: u64, _t: f64) -> ControlFlow<()> {

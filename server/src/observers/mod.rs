@@ -10,7 +10,7 @@ mod sse_event;
 mod verdicts;
 
 pub use json_collector::JsonCollector;
-pub use recorded::{Crossings, Sampled};
+pub use recorded::{Crossings, Recorded, Sampled};
 pub use sse_emitter::SseEmitter;
 pub use sse_event::sse_event;
 pub use verdicts::{IntegralNames, Verdicts};

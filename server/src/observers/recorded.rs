@@ -1,12 +1,50 @@
 //! What a run records of its own states for the answer: [`Sampled`], its observables at
 //! the sampled times, and [`Crossings`], its crossings of a Poincaré section; both as
-//! columns ([`ObservablesView`]). The JSON collector and the stream's emitter hold them.
+//! columns ([`ObservablesView`]). [`Recorded`] holds what a plan asks for of both; the JSON
+//! collector and the stream's emitter each hold one.
 
-use crate::compute::SectionPlan;
+use crate::compute::{Plan, SectionPlan};
 use crate::views::ObservablesView;
 use nhlab_core::measure::observables::{Observables, Scratch};
 use nhlab_core::measure::section::SectionTracker;
 use std::sync::Arc;
+
+/// What a run records of its states, as its plan asks: the observables sampled, the section's
+/// crossings (none of either where the plan asks for none).
+#[derive(Debug, Default)]
+pub struct Recorded {
+    /// The observables sampled so far.
+    pub observables: Option<Sampled>,
+    /// The section's crossings so far.
+    pub section: Option<Crossings>,
+}
+
+impl Recorded {
+    /// What `plan` asks each run to record.
+    pub fn of(plan: &Plan) -> Self {
+        let dof = plan.prepared.scene.system.dof();
+        Self {
+            observables: plan.observables.as_ref().map(|o| Sampled::new(o.clone(), plan.points)),
+            section: plan.section.as_ref().map(|s| Crossings::new(s.clone(), dof)),
+        }
+    }
+
+    /// A sampled state ([`Observer::sample`](nhlab_core::Observer::sample)).
+    #[inline]
+    pub fn sample(&mut self, t: f64, q: &[f64], v: &[f64]) {
+        if let Some(sampled) = &mut self.observables {
+            sampled.push(t, q, v);
+        }
+    }
+
+    /// A step's end state ([`Observer::state`](nhlab_core::Observer::state)).
+    #[inline]
+    pub fn state(&mut self, t: f64, q: &[f64], v: &[f64]) {
+        if let Some(crossings) = &mut self.section {
+            crossings.observe(t, q, v);
+        }
+    }
+}
 
 /// Observables being sampled: what computes them, its scratch, the columns and a row.
 #[derive(Debug)]

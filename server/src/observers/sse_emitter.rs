@@ -6,18 +6,15 @@
 //! for their verdicts ([`Verdicts`]), sent with the `run` event. Its counterpart for a JSON
 //! answer is [`JsonCollector`](crate::observers::JsonCollector).
 
-use crate::compute::{Cancel, SectionPlan};
-use crate::observers::{Crossings, IntegralNames, Sampled, Verdicts, sse_event};
+use crate::compute::{Cancel, Plan};
+use crate::observers::{IntegralNames, Recorded, Verdicts, sse_event};
 use crate::views::{
-    GapView, ObservablesEvent, ObservablesView, PointsEvent, ProgressEvent, SectionEvent,
-    SeriesView, VerdictView,
+    GapView, ObservablesEvent, PointsEvent, ProgressEvent, SectionEvent, SeriesView, VerdictView,
 };
 use axum::response::sse::Event;
-use nhlab_core::measure::observables::Observables;
 use nhlab_core::{Bucket, Gap, Integral, Observer};
 use std::collections::BTreeMap;
 use std::ops::ControlFlow;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 use tokio::sync::mpsc::Sender;
 use tokio::sync::mpsc::error::TrySendError;
@@ -38,10 +35,8 @@ pub struct SseEmitter {
     every: Duration,
     /// Steps done and time reached at the last look at the run.
     reached: (u64, f64),
-    /// The observables sampled and not sent yet.
-    observables: Option<Sampled>,
-    /// The section's crossings not sent yet.
-    section: Option<Crossings>,
+    /// The observables and section crossings not sent yet, where asked for.
+    recorded: Recorded,
 }
 
 impl SseEmitter {
@@ -64,20 +59,14 @@ impl SseEmitter {
             last: Instant::now(),
             every,
             reached: (0, 0.0),
-            observables: None,
-            section: None,
+            recorded: Recorded::default(),
         }
     }
 
-    /// The same, recording `section`'s crossings (sent as `section` events with the points).
-    pub fn crossing(mut self, section: Option<&Arc<SectionPlan>>, dof: usize) -> Self {
-        self.section = section.map(|s| Crossings::new(s.clone(), dof));
-        self
-    }
-
-    /// The same, sampling `observables` (sent as `observables` events with the points).
-    pub fn sampling(mut self, observables: Option<&Arc<Observables>>, points: usize) -> Self {
-        self.observables = observables.map(|o| Sampled::new(o.clone(), points));
+    /// The same, recording what `plan` asks of each run (sent as `observables` and `section`
+    /// events with the points).
+    pub fn recording(mut self, plan: &Plan) -> Self {
+        self.recorded = Recorded::of(plan);
         self
     }
 
@@ -96,19 +85,16 @@ impl SseEmitter {
                 sse_event("points", &PointsEvent { run, integral, series })
             })
             .collect();
-        if let Some(sampled) = &mut self.observables
+        if let Some(sampled) = &mut self.recorded.observables
             && !sampled.view.t.is_empty()
         {
-            let names: Vec<String> = sampled.view.columns.iter().map(|(n, _)| n.clone()).collect();
-            let observables = std::mem::replace(&mut sampled.view, ObservablesView::new(&names, 0));
+            let observables = sampled.view.take();
             events.push(sse_event("observables", &ObservablesEvent { run, observables }));
         }
-        if let Some(crossings) = &mut self.section
+        if let Some(crossings) = &mut self.recorded.section
             && !crossings.view.t.is_empty()
         {
-            let names: Vec<String> =
-                crossings.view.columns.iter().map(|(n, _)| n.clone()).collect();
-            let section = std::mem::replace(&mut crossings.view, ObservablesView::new(&names, 0));
+            let section = crossings.view.take();
             events.push(sse_event("section", &SectionEvent { run, section }));
         }
         events
@@ -174,15 +160,11 @@ impl Observer for SseEmitter {
     }
 
     fn sample(&mut self, t: f64, q: &[f64], v: &[f64]) {
-        if let Some(sampled) = &mut self.observables {
-            sampled.push(t, q, v);
-        }
+        self.recorded.sample(t, q, v);
     }
 
     fn state(&mut self, t: f64, q: &[f64], v: &[f64]) {
-        if let Some(crossings) = &mut self.section {
-            crossings.observe(t, q, v);
-        }
+        self.recorded.state(t, q, v);
     }
 
     fn progress(&mut self, steps_done: u64, t: f64) -> ControlFlow<()> {

@@ -154,9 +154,7 @@ async fn run(
             runner.spawn(
                 plan,
                 i,
-                JsonCollector::new(&plan.prepared.integrals, names, cancel.clone())
-                    .sampling(plan.observables.as_ref(), plan.points)
-                    .crossing(plan.section.as_ref(), plan.prepared.scene.system.dof()),
+                JsonCollector::new(&plan.prepared.integrals, names, cancel.clone()).recording(plan),
             )
         })
         .collect();

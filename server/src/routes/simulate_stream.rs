@@ -62,8 +62,7 @@ async fn coordinate(
         .map(|i| {
             let names = IntegralNames::of(&plan.prepared);
             let emitter = SseEmitter::new((i, steps), names, every, tx.clone(), cancel.clone())
-                .sampling(plan.observables.as_ref(), plan.points)
-                .crossing(plan.section.as_ref(), plan.prepared.scene.system.dof());
+                .recording(&plan);
             let method = plan.scene.methods[i].clone();
             let step = plan.prepared.scene.step;
             let handle =

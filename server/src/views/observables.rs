@@ -25,6 +25,12 @@ impl ObservablesView {
         }
     }
 
+    /// The columns so far, leaving empty ones with the same names (a stream sends what is new).
+    pub fn take(&mut self) -> Self {
+        let names = self.columns.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+        std::mem::replace(self, Self::new(&names, 0))
+    }
+
     /// Adds a sample: its time and the observables' values in order.
     pub fn push(&mut self, t: f64, values: &[f64]) {
         self.t.push(t);
