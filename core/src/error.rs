@@ -274,6 +274,9 @@ pub enum StepFailure {
     /// before it starts; this is the step's own guard).
     #[error("the method does not apply to this system")]
     NotApplicable,
+    /// The adaptive solve inside a step of the `reference` method failed (why, in words).
+    #[error("the adaptive solve (Dop853) inside the step failed: {0}")]
+    AdaptiveSolve(&'static str),
     /// The caller asked a measurement of steps to stop (its client went away).
     #[error("stopped: the measurement was cancelled")]
     Stopped,

@@ -28,7 +28,9 @@ pub mod model;
 pub mod solver;
 
 pub use catalogue::custom::CustomSystem;
-pub use catalogue::registry::{PAPER_SCENES, SYSTEMS, SystemCode, SystemEntry, system};
+pub use catalogue::registry::{
+    PAPER_SCENES, PAPER_SECTION, SYSTEMS, SystemCode, SystemEntry, system,
+};
 pub use catalogue::scene::{
     CompiledSystems, MAX_INITIAL, PreparedScene, Scene, SceneRequest, SceneSystem, SystemRequest,
 };

@@ -200,6 +200,7 @@ methods!(
     dd_avf::DdAvf,
     rk4::Rk4,
     rattle::Rattle,
+    reference_step::ReferenceStep,
 );
 
 /// A configured method: one of the list with its parameters, taken alone or as a symmetric
@@ -345,9 +346,10 @@ impl Method {
 
     /// Every method of the list with its default parameters, the paper's five first (so
     /// DLA^α twice, at α = ½ and 0.4): what the scorecard, the benchmarks and the tools run.
+    /// The instruments ([`MethodInfo::instrument`]: the reference) are not among them.
     pub fn all() -> Vec<Method> {
         let mut out = Self::paper_five().to_vec();
-        for info in method_infos() {
+        for info in method_infos().into_iter().filter(|info| !info.instrument) {
             if !out.iter().any(|m| m.info().id == info.id) {
                 // A listed id with its defaults always builds.
                 out.extend(Self::from_spec(&MethodSpec::new(info.id)));

@@ -297,3 +297,82 @@ async fn work_precision_takes_the_observables_at_t_end_for_each_row_and_the_refe
     let (status, error) = s.post_json("/work-precision", &bad).await;
     assert_eq!((status, &error["path"]), (422, &json!("observables.x")), "{error}");
 }
+
+#[tokio::test]
+async fn the_knife_edges_observables_follow_its_exact_solution_and_the_reference_run_is_it() {
+    let s = TestServer::start().await;
+    // The skate (x1, x2) at angle ζ = θ. ε = 0 from θ = π/2, θ̇ = 1: θ = π/2 + t, and it slides
+    // x = 1 − cos t − sin²t / 2, y = t/2 + sin 2t / 4 − sin t.
+    let body = json!({"system": "knife_edge", "preset": "paper", "q": [0, 0, std::f64::consts::FRAC_PI_2],
+                      "v": [0, 0, 1], "step": 0.01, "t_end": 20, "points": 11,
+                      "methods": ["leapfrog", "reference"],
+                      "observables": {"x": "x1", "y": "x2", "theta": "zeta",
+                                      "speed": "x1_dot*cos(zeta) + x2_dot*sin(zeta)"}});
+    let (status, answer) = s.post_json("/simulate", &body).await;
+    assert_eq!(status, 200, "{answer}");
+    let mut worst = Vec::new();
+    for run in answer["runs"].as_array().unwrap() {
+        assert_eq!(run["status"], "ok", "{run}");
+        let t = column(run, "t");
+        assert_eq!(t.len(), 11);
+        let mut err: f64 = 0.0;
+        for (j, &tj) in t.iter().enumerate() {
+            let (sn, cs) = tj.sin_cos();
+            let exact = [
+                ("x", 1.0 - cs - sn * sn / 2.0),
+                ("y", tj / 2.0 + (2.0 * tj).sin() / 4.0 - sn),
+                ("theta", std::f64::consts::FRAC_PI_2 + tj),
+                // The speed along the blade, ẋ cos θ + ẏ sin θ, from the formulas above.
+                ("speed", (sn - sn * cs) * (-sn) + (0.5 + 0.5 * (2.0 * tj).cos() - cs) * cs),
+            ];
+            for (name, value) in exact {
+                err = err.max((column(run, name)[j] - value).abs());
+            }
+        }
+        worst.push(err);
+    }
+    // Leap-frog is second order (h = 0.01: ~1e-4), the reference exact to its tolerance.
+    assert!(worst[0] < 1e-2 && worst[0] > 1e-7, "leap-frog's error {:e}", worst[0]);
+    assert!(worst[1] < 1e-11, "the reference run's error {:e}", worst[1]);
+}
+
+#[tokio::test]
+async fn the_reference_runs_beside_the_methods_and_its_section_is_the_exact_one() {
+    let s = TestServer::start().await;
+    let body = json!({"system": "vertical_disk", "preset": "long", "t_end": 20, "step": 0.05,
+                      "methods": ["rattle", "reference"], "points": 10,
+                      "section": {"surface": "sin(phi)", "direction": "down", "plot": ["x", "y"]}});
+    let (status, answer) = s.post_json("/simulate", &body).await;
+    assert_eq!(status, 200, "{answer}");
+    let runs = answer["runs"].as_array().unwrap();
+    assert_eq!(runs[1]["method"], json!({"id": "reference", "label": "reference"}));
+    // Its series like any run's: the energy kept to the tolerance.
+    let energy = runs[1]["series"]["energy"]["verdict"]["max"].as_f64().unwrap();
+    assert!(energy < 1e-12, "the reference's energy error {energy:e}");
+    // Crossings at t = π/2 + πk, at (0, 1): interpolated inside a step of 0.05 (O(h⁴)), far
+    // closer than the method's own.
+    let off = |run: &Value| {
+        let t = run["section"]["t"].as_array().unwrap();
+        assert_eq!(t.len(), 6, "{}", run["section"]);
+        (0..6)
+            .map(|k| {
+                let exact = std::f64::consts::FRAC_PI_2 + std::f64::consts::PI * k as f64;
+                let tk = t[k].as_f64().unwrap();
+                let y = run["section"]["y"][k].as_f64().unwrap();
+                (tk - exact).abs().max((y - 1.0).abs())
+            })
+            .fold(0.0, f64::max)
+    };
+    let (method, reference) = (off(&runs[0]), off(&runs[1]));
+    assert!(reference < 1e-6, "the reference's crossings are {reference:e} off");
+    assert!(reference < method / 10.0, "reference {reference:e}, RATTLE {method:e}");
+    // It is listed as an instrument, never a default, and work–precision refuses it.
+    let systems: Value =
+        reqwest::get(s.at("/systems")).await.unwrap().json().await.expect("GET /systems");
+    let listed = systems["methods"].as_array().unwrap().iter().find(|m| m["id"] == "reference");
+    assert_eq!(listed.map(|m| m["instrument"].clone()), Some(json!(true)));
+    assert!(!systems["default_methods"].to_string().contains("reference"));
+    let wp = json!({"system": "knife_edge", "methods": ["leapfrog", "reference"], "levels": 2});
+    let (status, error) = s.post_json("/work-precision", &wp).await;
+    assert_eq!((status, &error["path"]), (422, &json!("methods[1]")), "{error}");
+}

@@ -3,7 +3,8 @@
 // /systems, a fixed order); a method with parameters other than its defaults takes a darker
 // or lighter shade of its colour (by how far the parameter moves) and a hollow marker; a
 // composed method keeps its base's colour and marker with a dash of its own (by the
-// composition's place in the catalog's `compositions`). `methodStyle` is pure (node tests
+// composition's place in the catalog's `compositions`); an instrument (the reference) is
+// grey. `methodStyle` is pure (node tests
 // cover it); the rest draws it: uPlot series options, the markers on a canvas, and SVG
 // swatches for legends and tables.
 
@@ -11,6 +12,8 @@ const COLOURS = ['#2563eb', '#dc2626', '#16a34a', '#9333ea', '#ea580c', '#0891b2
 export const MARKERS = ['circle', 'square', 'triangle', 'diamond', 'triangle-down', 'cross', 'star', 'plus', 'pentagon', 'hexagon'];
 const DASHES = [[10, 4], [3, 3], [12, 4, 3, 4], [6, 3, 1, 3], [2, 5], [16, 6]];
 const NOT_PARAMS = new Set(['id', 'label', 'composition', 'params']);
+// The colour of an instrument (the reference solve run as a method): grey, whatever its place.
+const INSTRUMENT = '#94a3b8';
 
 function hash(text) {
   let h = 0;
@@ -54,7 +57,7 @@ export function methodStyle(catalog, method) {
   const methods = catalog?.methods ?? [];
   const index = methods.findIndex((x) => x.id === m.id);
   const slot = index >= 0 ? index : methods.length + (hash(m.id ?? '') % COLOURS.length);
-  let colour = COLOURS[slot % COLOURS.length];
+  let colour = methods[index]?.instrument ? INSTRUMENT : COLOURS[slot % COLOURS.length];
   // Past the tenth method the colours come round again, each with the next marker, so no
   // two of the first hundred share both.
   const marker = MARKERS[(slot + Math.floor(slot / COLOURS.length)) % MARKERS.length];

@@ -7,6 +7,9 @@
 // summarises it: the verdict of each method. The panels of a figure share one y-range, so
 // the scenes compare side by side as in the paper; each names its scene.
 //
+// After them, one figure the paper does not have (papersection.js): Poincaré sections of the
+// rotating perturbed CVT by two methods beside the reference's.
+//
 // The scenes are streamed one after another (the server admits a few simulations at once;
 // a 503 is retried after its Retry-After), each feeding the panels that show it.
 
@@ -19,6 +22,7 @@ import { VERDICTS, verdictTitle } from './verdicts.js';
 import { el } from './dom.js';
 import { sceneCaption, sceneStem } from './custom.js';
 import { humanLabel } from './labels.js';
+import { PaperSection } from './papersection.js';
 
 /** What the paper finds about each integral's error, in terms of the methods' properties. */
 export const PAPER_NOTES = {
@@ -94,6 +98,7 @@ export class PaperView {
       return fig;
     });
     this.figures.replaceChildren(...nodes);
+    this.section = new PaperSection(this.figures, { catalog: this.catalog });
   }
 
   async load() {
@@ -109,8 +114,11 @@ export class PaperView {
         await this.#stream(scene, mine);
         if (this.controller !== mine) return;
       }
+      this.#status('running', 'Computing the Poincaré sections of the rotating perturbed CVT…');
+      await this.section.load(mine.signal, (wait) => this.#status('running', `The server is busy; retrying the sections in ${wait} s…`));
+      if (this.controller !== mine) return;
       this.done = true;
-      this.#status('done', `Done: ${scenes.length} scenes, ${this.panels.length} panels, ${this.methods.length} methods each.`);
+      this.#status('done', `Done: ${scenes.length} scenes, ${this.panels.length} panels, ${this.methods.length} methods each, and the sections.`);
     } catch (e) {
       if (this.controller !== mine || e.name === 'AbortError') return;
       this.#status('error', `The paper's figures failed: ${e.message}`);

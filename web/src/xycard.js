@@ -61,8 +61,11 @@ export class XYCard {
       const xy = columns(run);
       if (!xy) return;
       const label = run.status === 'failed' ? `${humanLabel(run.label)} (failed)` : humanLabel(run.label);
-      series.push({ ...xy, label, run: i, status: run.status, style: methodStyle(catalog, run.method), width: Math.max(1, 2 - 0.2 * i) });
+      const instrument = catalog?.methods?.find((m) => m.id === run.method?.id)?.instrument === true;
+      series.push({ ...xy, label, run: i, status: run.status, instrument, style: methodStyle(catalog, run.method), width: Math.max(1, 2 - 0.2 * i) });
     });
+    // The reference beneath the methods: drawn first.
+    series.sort((a, b) => Number(b.instrument) - Number(a.instrument));
     this.spec = { series, mode, xLabel, yLabel };
     this.plot.draw(this.spec);
     this.#legend(series);

@@ -123,14 +123,17 @@ test('the page sources name no system and no method', async () => {
   // Ids as words (`knife_edge`, `dd`), labels as whole tokens (`DLA^0.4`, `LF`).
   const names = [
     ...catalog.systems.map((s) => s.id),
-    ...catalog.methods.map((m) => m.id),
+    ...catalog.methods.filter((m) => !m.instrument).map((m) => m.id),
     ...catalog.default_methods.map((m) => m.label),
   ];
+  // An instrument's id (`reference`) is an English word too: only as a quoted literal.
+  const instruments = catalog.methods.filter((m) => m.instrument).map((m) => m.id);
   for (const file of readdirSync(dir).filter((f) => /\.(js|html|css)$/.test(f))) {
     const text = readFileSync(new URL(file, dir), 'utf8');
     for (const name of names) {
       assert.doesNotMatch(text, new RegExp(`(?<![\\w^])${escape(name)}(?![\\w^])`), `${file} names "${name}"`);
     }
+    for (const id of instruments) assert.doesNotMatch(text, new RegExp(`['"\`]${escape(id)}['"\`]`), `${file} names "${id}"`);
   }
 });
 

@@ -94,3 +94,12 @@ test('labels for people: exponents as superscripts, verdict titles with the rend
   const [v] = runVerdicts({ label: 'A^{0,1}', status: 'ok', verdicts: { energy: { kind: 'bounded', max: 1e-3, early: 1e-3, late: 1e-3, ratio: 1 } } }, ['energy']);
   assert.match(v.title, /^A⁰˒¹, energy: bounded: max 1\.00e-3/);
 });
+
+test('an instrument (the reference) is grey, with a marker of its own', () => {
+  const ref = catalog.methods.find((m) => m.instrument);
+  assert.ok(ref, 'the catalog lists the reference as an instrument');
+  const look = methodStyle(catalog, { id: ref.id, label: 'reference' });
+  assert.equal(look.colour, '#94a3b8');
+  const others = catalog.methods.filter((m) => !m.instrument).map((m) => methodStyle(catalog, { id: m.id }));
+  assert.ok(others.every((o) => o.colour !== look.colour && o.marker !== look.marker));
+});

@@ -39,6 +39,12 @@ pub const POWI_WEIGHT: f64 = 8.0;
 /// call, its inputs and outputs.
 pub const EVALUATION_NS: f64 = 30.0;
 
+/// Accelerations a step of the `reference` method evaluates: its Dop853 solve's twelve per
+/// inner step, at the ~8 inner steps a step of 0.1 takes at tolerance 10⁻¹⁵ on the built-ins'
+/// time scales (measured with `core/examples/cost_check.rs`), rounded up. Its cost grows with
+/// the step; a step much longer than the system's time scale is priced low.
+pub const REFERENCE_EVALUATIONS: f64 = 100.0;
+
 /// What one run costs: its steps and nanoseconds per step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunCost {
@@ -92,6 +98,7 @@ pub fn built_in_ns(method: &Method) -> f64 {
         BaseMethod::DdAvf(_) => 800.0,
         // 467 (the sleigh).
         BaseMethod::Rk4(_) => 700.0,
+        BaseMethod::ReferenceStep(_) => REFERENCE_EVALUATIONS * 200.0,
     }
 }
 
@@ -115,6 +122,7 @@ impl Evaluations {
     /// heavy U (each function's evaluations over 2,000 steps); those of an implicit step,
     /// which depend on its Newton iterations (two there), half as many again.
     pub fn of(method: &Method, general: bool) -> Self {
+        const E: f64 = REFERENCE_EVALUATIONS;
         let (potential, gradient, hessian, driver) = match (method.base, general) {
             (BaseMethod::Leapfrog(_), false) => (1.0, 2.0, 0.0, 2.0),
             // Counted 1 (and 2 on the class): the forces at the step's end are the next
@@ -122,6 +130,8 @@ impl Evaluations {
             (BaseMethod::Leapfrog(_), true) => (1.0, 2.0, 0.0, 0.0),
             (BaseMethod::Rk4(_), false) => (1.0, 4.0, 0.0, 4.0),
             (BaseMethod::Rk4(_), true) => (1.0, 5.0, 4.0, 0.0),
+            (BaseMethod::ReferenceStep(_), false) => (0.0, E, 0.0, E),
+            (BaseMethod::ReferenceStep(_), true) => (0.0, E, E, 0.0),
             // Counted 3 gradients and 2 Hessians (4 driver terms); RATTLE 4, 2 (2.3).
             (BaseMethod::Dla(_) | BaseMethod::Rattle(_), false) => (1.0, 6.0, 3.0, 6.0),
             // The driver alone by Newton, the passenger one linear solve.

@@ -48,6 +48,45 @@ pub const PAPER_SCENES: [(&str, &str); 6] = [
     ("cvt_pendulum", "rotating-perturbed"),
 ];
 
+/// The figure beyond the paper (`docs/model.md` §4, Poincaré sections): the section of the
+/// rotating perturbed CVT where the driver completes a turn (ζ = 2πm, either way), in the
+/// passenger plane, by leap-frog and DLA^½ beside the reference; the integrals whose verdicts
+/// its caption reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PaperSection {
+    /// (system, preset).
+    pub scene: (&'static str, &'static str),
+    /// The section's surface, direction and plotted quantities.
+    pub surface: &'static str,
+    /// `up`, `down` or `both`.
+    pub direction: &'static str,
+    /// The plotted quantities.
+    pub plot: [&'static str; 2],
+    /// The integrals whose verdicts the caption reports.
+    pub integrals: [&'static str; 2],
+}
+
+/// See [`PaperSection`].
+pub const PAPER_SECTION: PaperSection = PaperSection {
+    scene: ("cvt_pendulum", "rotating-perturbed"),
+    surface: "sin(zeta/2)",
+    direction: "both",
+    plot: ["x1", "x2"],
+    integrals: ["passenger_energy", "latitude"],
+};
+
+impl PaperSection {
+    /// Its methods: leap-frog, DLA^½ and the reference.
+    pub fn methods(&self) -> [Method; 3] {
+        use crate::methods::{Dla, Leapfrog, ReferenceStep};
+        [
+            Method::from(Leapfrog),
+            Method::from(Dla { alpha: 0.5, ..Dla::default() }),
+            Method::from(ReferenceStep),
+        ]
+    }
+}
+
 /// The literature's test problems beyond the paper's (`docs/model.md` §2), as (system,
 /// preset): the scorecard's scenes after the paper's six.
 pub const LITERATURE_SCENES: [(&str, &str); 7] = [

@@ -29,6 +29,7 @@ use crate::Vector;
 use crate::measure::pace::AIM;
 use crate::measure::pace::Pace;
 use crate::model::mechanical::Mechanical;
+use crate::solver::reduced_ode;
 use nalgebra::DVector;
 use ode_solvers::dop_shared::{IntegrationError, OutputType};
 use ode_solvers::dop853::Dop853;
@@ -36,7 +37,7 @@ use std::cell::RefCell;
 use std::f64::consts::TAU;
 
 /// Default relative and absolute tolerance.
-pub const TOL: f64 = 1e-15;
+pub use crate::solver::reduced_ode::TOL;
 
 /// Time between restarts that bring an angle ζ back near 0.
 pub const SEGMENT: f64 = 1.0;
@@ -130,15 +131,7 @@ impl<S: Mechanical<N, R>, const N: usize, const R: usize> ode_solvers::System<f6
     for Ode<'_, S, N, R>
 {
     fn system(&self, _t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
-        let q = Vector::<N>::from_fn(|i, _| y[i]);
-        let v = Vector::<N>::from_fn(|i, _| y[N + i]);
-        // A singular A Aᵀ cannot occur for the registered systems (full row rank); NaN makes
-        // the solver fail loudly rather than return a wrong reference.
-        let a = self.sys.acceleration(&q, &v).map_or(Vector::<N>::repeat(f64::NAN), |(a, _)| a);
-        for i in 0..N {
-            dy[i] = v[i];
-            dy[N + i] = a[i];
-        }
+        reduced_ode::rhs(self.sys, y, dy);
     }
 
     /// Called after each accepted step, ending at `x`; returning true ends `integrate`.

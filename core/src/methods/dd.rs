@@ -60,6 +60,7 @@ static INFO: MethodInfo = MethodInfo {
     implicit: true,
     composed_order_limit: Some(4),
     class_only: None,
+    instrument: false,
 };
 
 impl Integrator for Dd {

@@ -57,6 +57,7 @@ static INFO: MethodInfo = MethodInfo {
          quotient and the passenger's quadrature, which needs V = U(x) + V_d(ζ) \
          (docs/model.md §3)",
     ),
+    instrument: false,
 };
 
 /// Gauss–Legendre nodes and weights on [0, 1].

@@ -45,6 +45,7 @@ static INFO: MethodInfo = MethodInfo {
     implicit: true,
     composed_order_limit: None,
     class_only: None,
+    instrument: false,
 };
 
 impl Integrator for Dla01 {

@@ -29,6 +29,10 @@ pub struct MethodInfo {
     /// Why the method has no step for the general class (`docs/model.md` §3), if it has none:
     /// it then runs only on systems of the paper's class.
     pub class_only: Option<&'static str>,
+    /// Whether it is a measuring instrument rather than a method under study (the
+    /// reference solve): asked for by its id only, never among the defaults,
+    /// [`Method::all`](crate::Method::all) or the cross-product tests.
+    pub instrument: bool,
 }
 
 /// What a run steps: a method of the list ([`Integrator`]) or one composed of its steps

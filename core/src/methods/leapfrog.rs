@@ -24,6 +24,7 @@ static INFO: MethodInfo = MethodInfo {
     implicit: false,
     composed_order_limit: Some(4),
     class_only: None,
+    instrument: false,
 };
 
 impl Integrator for Leapfrog {

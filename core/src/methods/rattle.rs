@@ -35,6 +35,7 @@ static INFO: MethodInfo = MethodInfo {
     implicit: true,
     composed_order_limit: None,
     class_only: None,
+    instrument: false,
 };
 
 impl Integrator for Rattle {

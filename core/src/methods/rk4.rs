@@ -51,6 +51,7 @@ static INFO: MethodInfo = MethodInfo {
     implicit: false,
     composed_order_limit: None,
     class_only: None,
+    instrument: false,
 };
 
 impl Integrator for Rk4 {

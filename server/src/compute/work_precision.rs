@@ -51,6 +51,16 @@ impl WorkPrecisionJob {
             sim.step = given_steps(steps, t_end)?.into_iter().reduce(f64::max);
         }
         let plan = Plan::resolve(&sim, config, caches, Delivery::JsonOnly)?;
+        if let Some(i) = plan.methods.iter().position(|m| m.info().instrument) {
+            return Err(AppError::invalid(
+                format!("methods[{i}]"),
+                format!(
+                    "{} is what work–precision measures the methods against (its row is the \
+                     answer's `reference`); list methods under study only",
+                    plan.methods[i].label()
+                ),
+            ));
+        }
         let (t_end, h) = (plan.prepared.scene.t_end, plan.prepared.scene.step);
         let (steps, field) = match (&req.steps, req.levels) {
             (Some(_), Some(_)) => {

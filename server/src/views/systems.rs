@@ -7,7 +7,7 @@ use crate::config::Config;
 use crate::request::{FormulaSystem, GeneralSystem};
 use crate::views::MethodView;
 use nhlab_core::catalogue::custom::SystemSpec;
-use nhlab_core::catalogue::registry::LITERATURE_SCENES;
+use nhlab_core::catalogue::registry::{LITERATURE_SCENES, PAPER_SECTION, PaperSection};
 use nhlab_core::model::custom::Structure;
 use nhlab_core::model::system::Form;
 use nhlab_core::{
@@ -35,6 +35,8 @@ pub struct SystemsResponse {
     pub paper_scenes: Vec<PaperScene>,
     /// The literature's test problems beyond the paper's (the scorecard's further scenes).
     pub literature_scenes: Vec<PaperScene>,
+    /// The Paper view's figure beyond the paper: Poincaré sections beside the reference's.
+    pub paper_section: PaperSectionView,
     /// The server's limits.
     pub limits: LimitsView,
 }
@@ -63,6 +65,37 @@ pub struct PaperScene {
     pub system: String,
     /// Preset id.
     pub preset: String,
+}
+
+/// The Paper view's figure beyond the paper: a scene, its methods (the reference among them),
+/// the section asked for and the integrals whose verdicts the caption reports.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct PaperSectionView {
+    /// System id.
+    pub system: String,
+    /// Preset id.
+    pub preset: String,
+    /// The methods run.
+    pub methods: Vec<MethodView>,
+    /// The integrals whose verdicts the caption reports.
+    pub integrals: Vec<String>,
+    /// The request's `section`: `surface`, `direction` and `plot`.
+    #[schema(value_type = Object)]
+    pub section: serde_json::Value,
+}
+
+impl PaperSectionView {
+    fn of(s: &PaperSection) -> Self {
+        Self {
+            system: s.scene.0.into(),
+            preset: s.scene.1.into(),
+            methods: s.methods().iter().map(MethodView::of).collect(),
+            integrals: s.integrals.iter().map(|&i| i.to_owned()).collect(),
+            section: serde_json::json!({
+                "surface": s.surface, "direction": s.direction, "plot": s.plot
+            }),
+        }
+    }
 }
 
 /// A system.
@@ -227,6 +260,11 @@ pub struct MethodInfoView {
     /// DD-AVF stop at 4; `docs/compositions.md`); absent where they reach it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub composed_order_limit: Option<u32>,
+    /// Whether it is a measuring instrument rather than a method under study: `reference`,
+    /// the Dop853 reference solve taken one step at a time (a run of it puts the exact
+    /// solution beside the methods'; `/work-precision` measures against it already). Never
+    /// among the defaults.
+    pub instrument: bool,
 }
 
 /// The limits a request must respect.
@@ -351,6 +389,7 @@ impl SystemsResponse {
                     implicit: m.implicit,
                     composable: composable.contains(&m.id),
                     composed_order_limit: m.composed_order_limit,
+                    instrument: m.instrument,
                 })
                 .collect(),
             default_methods: Method::paper_five().iter().map(MethodView::of).collect(),
@@ -379,6 +418,7 @@ impl SystemsResponse {
                     preset: (*preset).into(),
                 })
                 .collect(),
+            paper_section: PaperSectionView::of(&PAPER_SECTION),
             limits: LimitsView {
                 max_steps_json: config.max_steps_json,
                 max_steps_stream: config.max_steps_stream,

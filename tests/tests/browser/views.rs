@@ -8,7 +8,7 @@ use serde_json::json;
 use std::time::Duration;
 
 /// The Paper view: four figures, fourteen panels, each with its five curves drawn and a
-/// verdict per method.
+/// verdict per method; then the Poincaré sections beside the reference's.
 pub(crate) async fn paper_view(client: &Client, driver: &Driver, base: &str) -> Result<(), String> {
     // The previous scenario's expected 422 is still in the log: start from a clean one.
     driver.browser_log(client).await?;
@@ -25,7 +25,8 @@ pub(crate) async fn paper_view(client: &Client, driver: &Driver, base: &str) -> 
             json!("knife_edge-energy"),
             json!("cvt_pendulum-passenger_energy"),
             json!("cvt_pendulum-driver_energy"),
-            json!("cvt_pendulum-latitude")
+            json!("cvt_pendulum-latitude"),
+            json!("section")
         ],
         "{report}"
     );
@@ -61,6 +62,23 @@ pub(crate) async fn paper_view(client: &Client, driver: &Driver, base: &str) -> 
     )
     .await?;
     screenshot(client, "paper-cvt.png").await;
+    // The figure the paper does not have: LF's and DLA^½'s sections beside the reference's,
+    // the reference drawn first (beneath) in grey, and a caption with the methods' verdicts.
+    let section = &report["section"];
+    let drawn = section["drawn"].as_array().ok_or_else(|| format!("no section drawn: {report}"))?;
+    let labels: Vec<&str> = drawn.iter().map(|s| s["label"].as_str().unwrap_or("?")).collect();
+    assert_eq!(labels, ["reference", "LF", "DLA⁰·⁵"], "{section}");
+    assert_eq!(drawn[0]["colour"], "#94a3b8", "the reference in grey: {section}");
+    for s in drawn {
+        assert!(s["points"].as_u64().unwrap_or(0) >= 100, "a section lacks crossings: {section}");
+    }
+    let caption = section["caption"].as_str().unwrap_or("");
+    assert!(
+        caption.contains("LF: passenger energy") && caption.contains("latitude"),
+        "the caption says the verdicts: {caption}"
+    );
+    js(client, "document.querySelector('[data-figure=\"section\"]').scrollIntoView();").await?;
+    screenshot(client, "paper-section.png").await;
     console_clean(driver, client, "paper view").await?;
     println!("paper view: {} panels drawn with verdicts; screenshot {shot}", panels.len());
     Ok(())
@@ -85,6 +103,10 @@ return {
       verdicts: [...p.querySelectorAll('.verdict-chip')].map((c) => c.dataset.kind),
     };
   })),
+  section: (() => {
+    const f = document.querySelector('#view-paper [data-figure="section"]');
+    return f ? { drawn: f.querySelector('.dyn-card').xy.drawn, caption: f.querySelector('figcaption').textContent } : null;
+  })(),
 };
 "#;
 
