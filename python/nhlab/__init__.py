@@ -217,8 +217,10 @@ class SweepRows(list):
     def to_pandas(self):
         """The rows as a tidy pandas DataFrame: a column per axis path, the method's label,
         status, error, steps, cpu_ms, newton_iterations, and `<integral>.kind`, `.max`,
-        `.early`, `.late`, `.ratio`, `.gap_since` per integral, as the CSV of `POST /sweep`
-        (`gap_since` is NaN for a series with values to the end; pandas must be installed)."""
+        `.early`, `.late`, `.ratio`, `.gap_since` per integral, and `observables.<name>` per
+        observable taken at t_end, as the CSV of `POST /sweep` (`gap_since` is NaN for a series
+        with values to the end, an observable NaN for a run that failed; pandas must be
+        installed)."""
         import pandas as pd
 
         paths = [a["path"] for a in self.head["axes"]]
@@ -232,6 +234,9 @@ class SweepRows(list):
                 for f in ("kind", "max", "early", "late", "ratio"):
                     rec[f"{i}.{f}"] = r["verdicts"].get(i, {}).get(f)
                 rec[f"{i}.gap_since"] = (r.get("gaps") or {}).get(i, {}).get("since", float("nan"))
+            for name in self.head.get("observables", []):
+                value = (r.get("observables") or {}).get(name)
+                rec[f"observables.{name}"] = float("nan") if value is None else value
             records.append(rec)
         return pd.DataFrame.from_records(records)
 

@@ -162,6 +162,20 @@ def test_sweep_equals_post_sweep_and_goes_to_pandas(http):
     assert list(frame.columns) == csv_text.splitlines()[0].split(",")[:-1]
 
 
+def test_a_sweep_takes_observables_at_t_end_into_its_rows_and_frame(http):
+    spec = dict(SWEEP, observables={"x": "x1", "speed": "zeta_dot"})
+    status, answer = http.call("POST", "/sweep", spec)
+    assert status == 200
+    rows = nhlab.sweep(spec)
+    assert untimed(list(rows)) == untimed(answer["rows"])
+    assert rows.head["observables"] == ["x", "speed"]
+    pd = pytest.importorskip("pandas")
+    frame = rows.to_pandas()
+    assert frame["observables.x"].tolist() == [r["observables"]["x"] for r in answer["rows"]]
+    status, csv_text = http.call("POST", "/sweep", spec, accept="text/csv")
+    assert list(frame.columns) == csv_text.splitlines()[0].split(",")[:-1]
+
+
 @pytest.mark.parametrize("call, path, body", [
     (lambda: nhlab.simulate("nope"), "/simulate", {"system": "nope"}),
     (lambda: nhlab.simulate("knife_edge", methods=[{"id": "dla", "alfa": 0.4}]), "/simulate",

@@ -13,6 +13,7 @@ import nhlab
 distributed = pytest.importorskip("distributed")
 
 SPEC = {"system": "cvt_pendulum", "preset": "rotating-perturbed", "t_end": 150, "points": 100,
+        "observables": {"x": "x1", "e": "epsilon*x2"},
         "methods": [{"id": "dla", "alpha": 0.5}, "leapfrog", "dd"],
         "axes": [{"path": "methods.alpha", "linspace": [0.3, 0.7, 6]},
                  {"path": "params.epsilon", "linspace": [0, 0.5, 4]}]}

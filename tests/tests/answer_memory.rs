@@ -191,8 +191,8 @@ fn sweep_here(name: &str, req: &Value) -> Sweep {
     let (json, csv) = (written(Format::Json), written(Format::Csv));
     let rows: Vec<SweepRow> = cells.iter().flat_map(|c| c.rows.clone()).collect();
     let values = rows.iter().map(|r| serde_json::to_value(r).unwrap());
-    let axes: Vec<String> = sweep.head.axes.iter().map(|a| a.path.clone()).collect();
-    assert_eq!(csv, csv::write(&axes, &sweep.head.integrals, values).into_bytes(), "{name}");
+    let columns = csv::Columns::of(&sweep.head);
+    assert_eq!(csv, csv::write(&columns, values).into_bytes(), "{name}");
     let whole = SweepResponse { head: sweep.head.clone(), rows };
     assert_eq!(json, serde_json::to_vec(&whole).unwrap(), "{name}");
     let text = String::from_utf8(json).unwrap();

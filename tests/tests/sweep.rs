@@ -395,3 +395,61 @@ async fn a_sweep_s_steps_are_checked_before_its_formulas_are_compiled() {
     let error = answer["error"].as_str().unwrap();
     assert!(error.contains("about 1.0e300 steps"), "{error}");
 }
+
+#[tokio::test]
+async fn observables_at_t_end_come_in_each_row_as_simulate_gives_them() {
+    let server = TestServer::start().await;
+    let mut spec = alpha_epsilon();
+    // A formula with a parameter the axis sets: compiled in each cell with its value.
+    spec["observables"] = json!({"x": "x1", "e": "epsilon*x1 + zeta_dot"});
+    let (status, answer) = server.post_json("/sweep", &spec).await;
+    assert_eq!(status, 200, "{answer}");
+    // In the order sent (a `Value` sends its keys sorted).
+    assert_eq!(answer["observables"], json!(["e", "x"]));
+    for row in answer["rows"].as_array().unwrap() {
+        assert_eq!(row["status"], "ok", "{row}");
+        let at_end = &row["observables"];
+        // The echoed /simulate body, asked for the same observables once: its last sample.
+        let mut body = row["simulate"].clone();
+        body["observables"] = spec["observables"].clone();
+        body["points"] = json!(1);
+        let (status, run) = server.post_json("/simulate", &body).await;
+        assert_eq!(status, 200, "{run}");
+        let sampled = &run["runs"][0]["observables"];
+        assert_eq!(sampled["t"], json!([60.0]), "{sampled}");
+        for name in ["x", "e"] {
+            assert_eq!(at_end[name], sampled[name][0], "{name}: {row}");
+        }
+        let epsilon = row["values"][1].as_f64().unwrap();
+        let (x, e) = (at_end["x"].as_f64().unwrap(), at_end["e"].as_f64().unwrap());
+        if epsilon == 0.0 {
+            assert!((e - x).abs() > 1e-3, "ε = 0 leaves ζ̇ alone: {row}");
+        }
+    }
+    // CSV: a column per observable.
+    let csv = reqwest::Client::new()
+        .post(server.at("/sweep"))
+        .header("accept", "text/csv")
+        .json(&spec)
+        .send()
+        .await
+        .unwrap()
+        .text()
+        .await
+        .unwrap();
+    let header = csv.lines().next().unwrap();
+    assert!(header.ends_with(",observables.e,observables.x,simulate"), "{header}");
+    // A formula's error at its field; a run that fails has nulls.
+    let mut bad = spec.clone();
+    bad["observables"] = json!({"x": "x1^"});
+    let (status, error) = server.post_json("/sweep", &bad).await;
+    assert_eq!((status, &error["path"]), (422, &json!("observables.x")), "{error}");
+    let failing = json!({"system": "knife_edge", "preset": "paper", "t_end": 50, "methods": ["leapfrog"],
+                         "observables": {"x": "x1"},
+                         "axes": [{"path": "step", "values": [0.1, 1e9]}]});
+    let (status, answer) = server.post_json("/sweep", &failing).await;
+    assert_eq!(status, 200, "{answer}");
+    assert!(answer["rows"][0]["observables"]["x"].is_f64(), "{answer}");
+    assert_ne!(answer["rows"][1]["status"], "ok", "{answer}");
+    assert!(answer["rows"][1]["observables"]["x"].is_null(), "{answer}");
+}

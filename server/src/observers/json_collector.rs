@@ -5,11 +5,13 @@
 //! only at the end. Its counterpart for a stream is [`SseEmitter`](crate::observers::SseEmitter).
 
 use crate::compute::{Cancel, Plan};
-use crate::observers::{IntegralNames, Recorded, Verdicts};
+use crate::observers::{IntegralNames, Recorded, Sampled, Verdicts};
 use crate::views::{ObservablesView, SeriesView};
+use nhlab_core::measure::observables::Observables;
 use nhlab_core::{Bucket, Gap, Integral, Observer};
 use std::collections::BTreeMap;
 use std::ops::ControlFlow;
+use std::sync::Arc;
 
 /// Collects a run's series for a JSON answer.
 #[derive(Debug)]
@@ -37,6 +39,12 @@ impl JsonCollector {
     /// The same, recording what `plan` asks of each run (observables, a section).
     pub fn recording(mut self, plan: &Plan) -> Self {
         self.recorded = Recorded::of(plan);
+        self
+    }
+
+    /// The same, sampling `observables` once, at the end of the run (a sweep's rows).
+    pub fn sampling_at_end(mut self, observables: Arc<Observables>) -> Self {
+        self.recorded.observables = Some(Sampled::new(observables, 1));
         self
     }
 

@@ -1,7 +1,7 @@
 //! [`SweepRequest`]: the body of `POST /sweep` (and the spec file of `nhlab sweep`): a
 //! `/simulate` scene and methods, and the [`AxisRequest`]s whose product is the sweep's cells.
 
-use crate::request::{MethodRequest, scene_body, schemas};
+use crate::request::{MethodRequest, ObservablesRequest, scene_body, schemas};
 use serde::Deserialize;
 use utoipa::ToSchema;
 
@@ -21,6 +21,11 @@ scene_body! {
         #[serde(default, deserialize_with = "crate::request::objects")]
         #[schema(min_items = 1, max_items = 3)]
         pub axes: Option<Vec<AxisRequest>>,
+        /// Quantities taken at t_end in each row, by name, each a formula as `/simulate`'s
+        /// observables (default: none).
+        #[serde(default)]
+        #[schema(schema_with = schemas::observables)]
+        pub observables: Option<ObservablesRequest>,
     }
 }
 

@@ -27,15 +27,14 @@ pub enum Format {
 #[derive(Debug, Clone)]
 pub struct Encoder {
     format: Format,
-    /// The axes' paths and the integrals, CSV's columns.
-    columns: Arc<(Vec<String>, Vec<String>)>,
+    /// CSV's columns.
+    columns: Arc<csv::Columns>,
 }
 
 impl Encoder {
     /// An encoder of the rows of the sweep `head` as `format`.
     pub fn new(head: &SweepHead, format: Format) -> Self {
-        let axes = head.axes.iter().map(|a| a.path.clone()).collect();
-        Self { format, columns: Arc::new((axes, head.integrals.clone())) }
+        Self { format, columns: Arc::new(csv::Columns::of(head)) }
     }
 
     /// The text of `cell`'s rows: JSON objects separated by commas, or CSV lines.
@@ -55,13 +54,12 @@ impl Encoder {
                 Ok(out)
             }
             Format::Csv => {
-                let (axes, integrals) = &*self.columns;
                 let mut out = String::new();
                 // One row's JSON value at a time: the columns are read from it as from a
                 // merged shard file's rows.
                 for row in &cell.rows {
                     let value = serde_json::to_value(row).map_err(error)?;
-                    csv::write_row(&mut out, axes, integrals, &value);
+                    csv::write_row(&mut out, &self.columns, &value);
                 }
                 Ok(out.into_bytes())
             }
@@ -97,8 +95,7 @@ impl AnswerBody {
                 body.extend_from_slice(b",\"rows\":[");
             }
             Format::Csv => {
-                let axes: Vec<String> = head.axes.iter().map(|a| a.path.clone()).collect();
-                body.extend_from_slice(csv::header(&axes, &head.integrals).as_bytes());
+                body.extend_from_slice(csv::header(&csv::Columns::of(head)).as_bytes());
             }
         }
         Ok(Self { format, body, next: 0, any: false, ahead: BTreeMap::new() })
@@ -150,6 +147,7 @@ mod tests {
             axes: vec![AxisView { path: "step".into(), values: vec![0.1, 0.2, 0.3] }],
             methods: Vec::new(),
             integrals: vec!["energy".into()],
+            observables: Vec::new(),
             cells: 3,
             criterion: "c".into(),
         }

@@ -10,13 +10,17 @@
 //! ([`CompiledSystems::parameters_as_inputs`]). The check stops when `stop` says so (its
 //! client left, or its time is up).
 
-use crate::compute::{Delivery, check_answer_bytes, method, methods, points, steps_of, steps_text};
+use crate::compute::{
+    Delivery, check_answer_bytes, method, methods, observables_of, points, steps_of, steps_text,
+};
 use crate::config::Config;
 use crate::error::AppError;
 use crate::request::{MethodRequest, SimulateRequest, SweepRequest, SystemField};
 use crate::sweep::axis::{Axis, Target, has_param};
 use crate::views::{AxisView, CRITERION, MethodView, SweepHead};
+use nhlab_core::formula::Limits;
 use nhlab_core::measure::latitude::LatitudeAxis;
+use nhlab_core::measure::observables::Observables;
 use nhlab_core::{CompiledSystems, InputError, Method, PreparedScene, Scene, Short};
 use std::sync::Arc;
 
@@ -42,6 +46,9 @@ pub struct Sweep {
     pub integrals: Option<Vec<String>>,
     /// The cells, by index.
     pub cells: Vec<Cell>,
+    /// The observables taken at t_end, as given, and the limits their formulas are compiled
+    /// with (in each cell: its parameters are folded in).
+    pub observables: Option<(Vec<(String, String)>, Limits)>,
     /// Steps all the runs take together, sub-steps counted.
     pub total_steps: u64,
     /// The request's scene as a `/simulate` body (no methods), and its initial state where
@@ -259,6 +266,8 @@ impl Sweep {
         let measured = match out.iter().find_map(|c| c.scene.as_ref().ok()) {
             Some(scene) => {
                 let prepared = prepare(scene, integrals.as_deref(), axis)?;
+                // Errors at `observables.NAME`, checked on the first valid cell.
+                observables_of(req.observables.as_ref(), &prepared, config)?;
                 prepared.integrals.iter().map(|&i| prepared.integral_name(i)).collect()
             }
             None => integrals.clone().unwrap_or_default(),
@@ -270,16 +279,39 @@ impl Sweep {
                 .collect(),
             methods: base_methods.iter().map(MethodView::of).collect(),
             integrals: measured,
+            observables: req
+                .observables
+                .as_ref()
+                .map_or_else(Vec::new, |o| o.0.iter().map(|(n, _)| n.clone()).collect()),
             cells: n,
             criterion: CRITERION.to_owned(),
         };
         let base = (body, q0, v0);
-        let sweep = Self { head, axes, points, integrals, cells: out, total_steps, base };
+        let observables = req.observables.as_ref().map(|o| (o.0.clone(), config.formulas.formula));
+        let sweep =
+            Self { head, axes, points, integrals, cells: out, observables, total_steps, base };
         if delivery != Delivery::Stream {
             let what = " (its rows as text and its checked cells)";
             check_answer_bytes(sweep.held_bytes(delivery), config, what)?;
         }
         Ok(sweep)
+    }
+
+    /// The observables asked for, compiled for a cell's scene (its parameters folded in), or
+    /// why they do not compile there (`field: reason`); none when none were asked for.
+    pub fn observables_for(
+        &self,
+        prepared: &PreparedScene,
+    ) -> Option<Result<Arc<Observables>, String>> {
+        let (given, limits) = self.observables.as_ref()?;
+        let coordinates = prepared.scene.system.coordinate_names();
+        let params = prepared.scene.named_params();
+        Some(Observables::compile(given, &coordinates, &params, limits).map(Arc::new).map_err(
+            |e| {
+                let e = AppError::from(e);
+                format!("{}: {}", e.path.unwrap_or_default(), e.message)
+            },
+        ))
     }
 
     /// The `/simulate` body of cell `c` (without methods), its values in place.
@@ -321,7 +353,8 @@ impl Sweep {
         let (request, method) = &cell.methods[0];
         let echo = self.echo(0, request, method.as_ref().ok());
         let body = serde_json::to_vec(&echo).map_or(1000, |b| b.len()) as u64;
-        row_bytes_with(self.head.integrals.len(), cell.values.len(), body)
+        let observables = 30 * self.head.observables.len() as u64;
+        row_bytes_with(self.head.integrals.len(), cell.values.len(), body) + observables
     }
 }
 

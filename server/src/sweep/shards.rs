@@ -428,12 +428,12 @@ pub fn merge(paths: &[PathBuf], format: MergeFormat) -> Result<String, ShardErro
             out
         }
         MergeFormat::Csv => {
-            let axes: Vec<String> = h.axes.into_iter().map(|a| a.path).collect();
-            csv::write(
-                &axes,
-                &h.integrals,
-                rows.map(|r| serde_json::from_str(r).unwrap_or(Value::Null)),
-            )
+            let columns = csv::Columns {
+                axes: h.axes.into_iter().map(|a| a.path).collect(),
+                integrals: h.integrals,
+                observables: h.observables,
+            };
+            csv::write(&columns, rows.map(|r| serde_json::from_str(r).unwrap_or(Value::Null)))
         }
     })
 }
@@ -444,6 +444,8 @@ struct HeadFields {
     axes: Vec<crate::views::AxisView>,
     methods: Vec<Value>,
     integrals: Vec<String>,
+    #[serde(default)]
+    observables: Vec<String>,
     cells: usize,
 }
 

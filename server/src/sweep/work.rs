@@ -8,7 +8,9 @@ use crate::compute::{Cancel, ThreadClock, run_config};
 use crate::observers::{IntegralNames, JsonCollector};
 use crate::request::{MethodRequest, SystemField};
 use crate::sweep::plan::{AxisSource, Sweep, prepare};
-use crate::views::{MethodView, RowStatus, SimulateEcho, SweepCell, SweepRow};
+use crate::views::{
+    MethodView, ObservablesView, RowStatus, SimulateEcho, SweepCell, SweepRow, ValuesView,
+};
 use nhlab_core::solver::newton;
 use nhlab_core::{Method, RunError, Scene};
 use serde_json::Value;
@@ -55,7 +57,26 @@ impl Sweep {
                 .map_err(|e| format!("{}: {}", e.path.unwrap_or_default(), e.message)),
             Err(e) => Err(e.clone()),
         };
-        let cfg = run_config(self.points, time_limit);
+        // The observables, compiled with the cell's parameters: sampled once, at t_end.
+        let (prepared, observables) = match prepared {
+            Ok(p) => match self.observables_for(&p).transpose() {
+                Ok(observables) => (Ok(p), observables),
+                Err(e) => (Err(e), None),
+            },
+            Err(e) => (Err(e), None),
+        };
+        let mut cfg = run_config(self.points, time_limit);
+        cfg.samples = usize::from(observables.is_some());
+        let at_end = |sampled: Option<ObservablesView>| {
+            let names = &self.head.observables;
+            (!names.is_empty()).then(|| {
+                let last = sampled.filter(|s| s.t.len() == 1);
+                ValuesView(match last {
+                    Some(s) => s.columns.into_iter().map(|(n, c)| (n, c[0])).collect(),
+                    None => names.iter().map(|n| (n.clone(), f64::NAN)).collect(),
+                })
+            })
+        };
         let mut rows = Vec::with_capacity(cell.methods.len());
         for (i, (request, method)) in cell.methods.iter().enumerate() {
             let view = method.as_ref().map_or_else(|_| view_of(request), MethodView::of);
@@ -71,6 +92,7 @@ impl Sweep {
                 newton_iterations: None,
                 verdicts: BTreeMap::new(),
                 gaps: BTreeMap::new(),
+                observables: at_end(None),
                 simulate: self.echo(c, request, method.as_ref().ok()),
             };
             match (&prepared, method) {
@@ -78,6 +100,9 @@ impl Sweep {
                 (Ok(prepared), Ok(method)) => {
                     let names = IntegralNames::of(prepared);
                     let mut collector = JsonCollector::new(&[], names, cancel.clone());
+                    if let Some(observables) = &observables {
+                        collector = collector.sampling_at_end(observables.clone());
+                    }
                     let clock = ThreadClock::start();
                     newton::take_iterations();
                     let outcome = catch_unwind(AssertUnwindSafe(|| {
@@ -97,6 +122,7 @@ impl Sweep {
                             row.error = outcome.error.map(|e| e.to_string());
                             row.steps = outcome.steps;
                             row.newton_iterations = method.info().implicit.then_some(iterations);
+                            row.observables = at_end(collector.take_observables());
                             row.verdicts = collector.verdicts.all();
                             row.gaps = collector.verdicts.gaps();
                         }

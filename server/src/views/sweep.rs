@@ -5,7 +5,7 @@
 //! `done` ([`SweepDone`]).
 
 use crate::request::SystemField;
-use crate::views::{GapView, MethodView, VerdictView};
+use crate::views::{GapView, MethodView, ValuesView, VerdictView};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use utoipa::ToSchema;
@@ -28,6 +28,10 @@ pub struct SweepHead {
     pub methods: Vec<MethodView>,
     /// The integrals measured, in order.
     pub integrals: Vec<String>,
+    /// The observables taken at t_end in each row, in the order asked for (absent when none
+    /// were).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub observables: Vec<String>,
     /// Number of cells: the product of the axes' lengths.
     pub cells: usize,
     /// The verdicts' criterion.
@@ -78,6 +82,11 @@ pub struct SweepRow {
     pub cpu_ms: Option<f64>,
     /// Newton iterations the run took (null for an explicit method, or nothing ran).
     pub newton_iterations: Option<u64>,
+    /// The observables asked for, at t_end, by name (null for a run that did not reach it);
+    /// absent when none were asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<Object>, example = json!({"x": 0.12}))]
+    pub observables: Option<ValuesView>,
     /// Each measured series' verdict, by integral (none for a series without values).
     pub verdicts: BTreeMap<String, VerdictView>,
     /// The gap of each series that has one (no values from `since` on), by integral.
