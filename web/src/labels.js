@@ -14,6 +14,19 @@ export function superscript(text) {
   return chars.every((c) => SUPER[c]) ? chars.map((c) => SUPER[c]).join('') : null;
 }
 
+/** The label of `label`'s method when a sweep's axis sets its parameter (`paths`, the axes'):
+ *  its exponent dropped and the swept parameter named, `X^0.5` → `X (α swept)`, since
+ *  each cell runs it with another value; else the label for people. `index` is the method's
+ *  place in the sweep's list. */
+export function sweptLabel(label, paths, index) {
+  const swept = paths
+    .map((p) => /^methods(?:\[(\d+)\])?\.(\w+)$/.exec(p))
+    .filter((m) => m && (m[1] === undefined || Number(m[1]) === index))
+    .map((m) => symbol(m[2]));
+  if (!swept.length) return humanLabel(label);
+  return `${String(label ?? '').replace(/\^.*$/, '')} (${swept.join(', ')} swept)`;
+}
+
 /** A method label for people: `A^{0,1}` → `A⁰˒¹`, `A^0.4` → `A⁰·⁴`; an exponent
  *  with a character that has no superscript keeps a plain `^(…)`. */
 export function humanLabel(label) {
@@ -53,7 +66,8 @@ export function symbol(name) {
 
 /**
  * The label the page shows for an API field path: `levels` → "Step sizes",
- * `params.epsilon` → "ε (epsilon)", `methods[1].alpha` → "method 2, α", `q[2]` → "q(0),
+ * `params.epsilon` → "ε (epsilon)", `methods[1].alpha` → "method 2, α", `methods.alpha` → "α
+ * (every method)", `q[2]` → "q(0),
  * entry 3", `system.constraints[0][1]` → "System (constraints…)"; null for no path.
  */
 export function fieldLabel(path) {
@@ -67,6 +81,8 @@ export function fieldLabel(path) {
     return s === name ? name : `${s} (${name})`;
   }
   if (head === 'methods') {
+    // A sweep's axis over every listed method's parameter.
+    if (/^\.\w+$/.test(rest)) return `${symbol(rest.slice(1))} (every method)`;
     const item = /^\[(\d+)\](?:\.(\w+))?/.exec(rest);
     if (item) return `method ${Number(item[1]) + 1}${item[2] ? `, ${item[2] === 'composition' ? 'composition' : symbol(item[2])}` : ''}`;
   }

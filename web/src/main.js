@@ -27,7 +27,7 @@ import { decodeState, encodeState, requestBody } from './state.js';
 import { customized, experiment, presetSwitched, sceneOpened, startedFrom, systemSwitched } from './transitions.js';
 import { download } from './dom.js';
 import { fieldLabel } from './labels.js';
-import { progressNote } from './timing.js';
+import { progressNote, runsLeft } from './timing.js';
 import { dynamicsSystem } from './dynamics.js';
 import { TrajectoryPanel } from './trajectory.js';
 import { SectionPanel } from './section.js';
@@ -342,7 +342,7 @@ function draw() {
   renderRuns($('runs'), result, catalog);
   trajectory.update();
   section.update();
-  if (controller) status('running', `Running${stepNote}… ${progressNote(result.elapsed, result.fraction)}.`);
+  if (controller) status('running', `Running${stepNote}… ${progressNote(result.elapsed, runsLeft(result.runs))}.`);
 }
 
 function progress(fraction) {

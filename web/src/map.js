@@ -18,7 +18,7 @@ import { SweepResult, cellLines, cellState, fmt } from './sweepresult.js';
 import { VERDICTS } from './verdicts.js';
 import { download, el } from './dom.js';
 import { fileButtons } from './export.js';
-import { humanLabel } from './labels.js';
+import { fieldLabel, humanLabel, sweptLabel } from './labels.js';
 import { heatmapCanvas, heatmapSvg } from './heatexport.js';
 
 export class MapView {
@@ -215,15 +215,16 @@ export class MapView {
     const { method, integral, color } = this.controls.read();
     const axes = r.axes;
     const last = axes[axes.length - 1];
-    const label = humanLabel(r.methods[method]?.label ?? `method ${method}`);
+    const paths = axes.map((a) => a.path);
+    const label = sweptLabel(r.methods[method]?.label ?? `method ${method}`, paths, Number(method));
     this.heatmap.set({
       xs: last.values,
       ys: axes.length > 1 ? axes[0].values : null,
-      xTitle: last.path,
-      yTitle: axes[0].path,
+      xTitle: fieldLabel(last.path),
+      yTitle: fieldLabel(axes[0].path),
       cells: r.cells,
       mode: color,
-      label: `${color === 'log' ? 'log₁₀ of the largest error' : 'verdict'} of ${label} on ${integral} over ${axes.map((a) => a.path).join(' × ')}`,
+      label: `${color === 'log' ? 'log₁₀ of the largest error' : 'verdict'} of ${label} on ${integral} over ${axes.map((a) => fieldLabel(a.path)).join(' × ')}`,
       stateOf: (c) => cellState(r.row(c, method), integral),
       linesOf: (c) => cellLines(r, c, method, integral),
       xyOf: (c) => cellXY(c, r.counts),
@@ -280,7 +281,7 @@ export class MapView {
   #picture(kind) {
     const { integral, color } = this.controls.read();
     const line = kind === 'line';
-    const title = line ? `Largest ${integral} error against ${this.result?.axes[0]?.path}` : this.root.querySelector('.map-title').textContent;
+    const title = line ? `Largest ${integral} error against ${fieldLabel(this.result?.axes[0]?.path)}` : this.root.querySelector('.map-title').textContent;
     const stem = `${this.computed.stem}${line ? '-line' : ''}`;
     // The line plot's export draws its own legend; only the heat map's needs a key.
     if (line) return { title, caption: this.computed.caption, stem };

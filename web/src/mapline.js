@@ -10,7 +10,7 @@ import { runWidth } from './plots.js';
 import { methodStyle } from './palette.js';
 import { legendSwatches, seriesStyle } from './markers.js';
 import { fmt } from './sweepresult.js';
-import { humanLabel } from './labels.js';
+import { fieldLabel, humanLabel } from './labels.js';
 import { exportButtons } from './export.js';
 
 const HEIGHT = 300;
@@ -64,9 +64,9 @@ export class MapLine {
       width: this.#width(),
       height: HEIGHT,
       scales: { x: logX ? { time: false, distr: 3, log: 10 } : { time: false }, y: { distr: 3, log: 10 } },
-      axes: [axis(result.axes[0].path, xValues), { ...axis(`largest ${integral} error over the run`, decades), size: 70 }],
+      axes: [axis(fieldLabel(result.axes[0].path), xValues), { ...axis(`largest ${integral} error over the run`, decades), size: 70 }],
       series: [
-        { label: result.axes[0].path, value: (u, v) => (v === null ? '' : fmt(v)) },
+        { label: fieldLabel(result.axes[0].path), value: (u, v) => (v === null ? '' : fmt(v)) },
         ...result.methods.map((m, i) => ({
           ...seriesStyle(styles[i], { width: i === chosen ? 3 : runWidth(i + 1), size: i === chosen ? 8 : 6, sparse: false }),
           label: humanLabel(m.label ?? m.id),

@@ -5,6 +5,7 @@
 // then method) and CSV with the columns of its CSV answer. Pure, so node tests cover it.
 
 import { sci } from './verdicts.js';
+import { fieldLabel, humanLabel } from './labels.js';
 
 export class SweepResult {
   constructor(start) {
@@ -96,9 +97,9 @@ export function cellState(row, integral) {
 export function cellLines(result, cell, method, integral) {
   const row = result.row(cell, method);
   const values = row?.values ?? result.axes.map((a, k) => a.values[cellIndex(result, cell, k)]);
-  const lines = result.axes.map((a, k) => `${a.path} = ${fmt(values[k])}`);
+  const lines = result.axes.map((a, k) => `${fieldLabel(a.path)} = ${fmt(values[k])}`);
   if (!row) return [...lines, 'not computed yet'];
-  lines.push(`${row.method?.label ?? row.method?.id ?? `method ${method}`}: ${row.status}`);
+  lines.push(`${humanLabel(row.method?.label ?? row.method?.id ?? `method ${method}`)}: ${row.status}`);
   if (row.error) lines.push(row.error);
   const v = row.verdicts?.[integral];
   if (v) {

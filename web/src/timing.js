@@ -50,8 +50,22 @@ export function clock(ms) {
   return `${Math.floor(s / 3600)} h ${String(Math.floor((s % 3600) / 60)).padStart(2, '0')} min`;
 }
 
-/** A status note on a long computation: `12 s elapsed, about 20 s left`. */
-export function progressNote(elapsedMs, fraction) {
-  const left = eta(elapsedMs, fraction);
-  return `${clock(elapsedMs)} elapsed${left === null ? '' : `, about ${clock(left)} left`}`;
+/** The time left of a request's runs, in ms: the slowest running run's (the runs go in
+ *  parallel, so the request ends with its last run), each at its own pace; null while a
+ *  running run has no estimate yet, or none runs. */
+export function runsLeft(runs) {
+  let left = null;
+  for (const run of runs) {
+    if (run.status !== 'running') continue;
+    const mine = eta(run.live_ms, run.fraction);
+    if (mine === null) return null;
+    left = Math.max(left ?? 0, mine);
+  }
+  return left;
+}
+
+/** A status note on a long computation: `12 s elapsed, about 20 s left` (`leftMs` null: no
+ *  estimate yet). */
+export function progressNote(elapsedMs, leftMs) {
+  return `${clock(elapsedMs)} elapsed${leftMs === null || leftMs === undefined ? '' : `, about ${clock(leftMs)} left`}`;
 }

@@ -49,3 +49,13 @@ test('a system in a file name: a built-in by its id, a custom one by its name', 
   assert.equal(systemSlug({ name: ' Skate, in a bowl! ' }, catalog), 'skate-in-a-bowl');
   assert.equal(systemSlug({ name: '***' }, catalog), 'custom');
 });
+
+test('a swept method is named by what is swept, not by the value it was listed with', async () => {
+  const { sweptLabel, fieldLabel } = await import('../src/labels.js');
+  assert.equal(sweptLabel('M^0.5', ['methods.alpha', 'params.epsilon'], 0), 'M (α swept)');
+  assert.equal(sweptLabel('M^0.5', ['methods[1].alpha'], 0), 'M⁰·⁵', 'the axis sets another method');
+  assert.equal(sweptLabel('M^0.5', ['methods[1].alpha'], 1), 'M (α swept)');
+  assert.equal(sweptLabel('L', ['params.epsilon'], 0), 'L');
+  assert.equal(fieldLabel('methods.alpha'), 'α (every method)');
+  assert.equal(fieldLabel('step'), 'Step h');
+});

@@ -98,14 +98,15 @@ test('the CSV download has the CSV answer columns, a row per run', () => {
 test('a tooltip names the cell, the method as run there and the numbers', () => {
   const r = filled([0, 1, 2, 3, 4, 5]);
   const lines = cellLines(r, 4, 0, 'energy');
-  assert.equal(lines[0], 'methods.alpha = 0.5');
-  assert.equal(lines[1], 'params.epsilon = 0.25');
-  assert.equal(lines[2], 'M^0.5: ok');
+  // Axes by the labels the form uses, the method as the rest of the page writes it.
+  assert.equal(lines[0], 'α (every method) = 0.5');
+  assert.equal(lines[1], 'ε (epsilon) = 0.25');
+  assert.equal(lines[2], 'M⁰·⁵: ok');
   assert.equal(lines[3], 'energy: bounded');
   assert.match(lines[4], /^max 5\.00e-3 · early max 2\.50e-3 · late mean 1\.67e-3 · late\/early 0\.66$/);
   assert.equal(lines[5], '3000 steps · 1.5 ms CPU · 6012 Newton iterations');
   assert.deepEqual(cellLines(r, 4, 1, 'energy').slice(2, 4), ['N: failed', 'step 12 at t = 1.2: Newton did not converge']);
-  assert.deepEqual(cellLines(new SweepResult(start), 2, 0, 'energy'), ['methods.alpha = 0.3', 'params.epsilon = 0.5', 'not computed yet']);
+  assert.deepEqual(cellLines(new SweepResult(start), 2, 0, 'energy'), ['α (every method) = 0.3', 'ε (epsilon) = 0.5', 'not computed yet']);
   assert.equal(fmt(0.30000000000000004), '0.3');
   assert.equal(fmt(1e-7), '1.00e-7');
 });
