@@ -45,7 +45,9 @@ fn main() {
     if needs_install(&web) {
         npm(&web, &["ci", "--no-audit", "--no-fund"]);
     }
-    npm(&web, &["run", "build"]);
+    // Source maps for a debug build only: a release binary does not carry them.
+    let debug = std::env::var("PROFILE").is_ok_and(|p| p == "debug");
+    npm_with(&web, &["run", "build"], &[("NHLAB_WEB_SOURCEMAP", if debug { "1" } else { "0" })]);
     drop(lock);
     if !dist.join("index.html").exists() {
         fail("`npm run build` in web/ did not produce web/dist/index.html");
@@ -62,8 +64,13 @@ fn needs_install(web: &Path) -> bool {
 }
 
 fn npm(web: &Path, args: &[&str]) {
+    npm_with(web, args, &[]);
+}
+
+fn npm_with(web: &Path, args: &[&str], vars: &[(&str, &str)]) {
     let shown = format!("npm {}", args.join(" "));
-    let output = Command::new("npm").args(args).current_dir(web).output();
+    let output =
+        Command::new("npm").args(args).envs(vars.iter().copied()).current_dir(web).output();
     match output {
         Err(e) => fail(&format!(
             "could not run `{shown}` in web/ ({e}); nhlab embeds the page, so building it \

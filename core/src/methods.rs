@@ -15,7 +15,7 @@ pub mod memory;
 
 pub use composition::{Composed, Composition};
 pub use general_memory::GeneralMemory;
-pub use integrator::{GeneralStepper, Integrator, MethodInfo, Stepper};
+pub use integrator::{GeneralStepper, Integrator, MethodInfo, Stepper, SymmetricAt};
 pub use memory::{Memory, Recall};
 
 use crate::model::mechanical::Mechanical;

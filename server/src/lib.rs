@@ -70,11 +70,13 @@ pub use views::{
 use axum::Router;
 use axum::body::Body;
 use axum::extract::DefaultBodyLimit;
+use axum::handler::Handler;
 use axum::http::{HeaderValue, Method, Request, Uri, header};
 use axum::response::IntoResponse;
 use axum::routing::{get, post};
 use tower_http::LatencyUnit;
 use tower_http::catch_panic::CatchPanicLayer;
+use tower_http::compression::CompressionLayer;
 use tower_http::cors::{AllowOrigin, CorsLayer};
 use tower_http::set_header::SetResponseHeaderLayer;
 use tower_http::trace::{DefaultOnResponse, TraceLayer};
@@ -103,7 +105,7 @@ pub fn app(state: AppState) -> Router {
         .route("/work-precision", post(work_precision))
         .route("/sweep", post(routes::sweep::sweep))
         .route("/openapi.json", get(openapi_json))
-        .fallback(page)
+        .fallback(page.layer(CompressionLayer::new()))
         .method_not_allowed_fallback(|method: Method, uri: Uri| async move {
             AppError::method_not_allowed(method.as_str(), uri.path())
         })

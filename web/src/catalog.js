@@ -187,3 +187,13 @@ export function figureScenes(figures) {
   }
   return [...scenes.values()];
 }
+
+/** Whether `info`'s method with `params` may be composed (GET /systems' `symmetric_at`), and
+ *  its order alone. */
+export function composableAt(info, params) {
+  const at = info.symmetric_at;
+  if (!info.composable) return { composable: false, order: info.order };
+  if (!at) return { composable: true, order: info.order };
+  const here = params[at.param] ?? info.params?.find((p) => p.name === at.param)?.default;
+  return here === at.value ? { composable: true, order: info.order } : { composable: false, order: at.order_elsewhere };
+}

@@ -5,7 +5,7 @@
 // (editor.js) in place of the preset and parameters. A built-in is shown with whether it is
 // in the paper's class, and offers the methods that apply to it.
 
-import { defaultWindow, findPreset, findSystem, methodsFor, paperClassLine } from './catalog.js';
+import { composableAt, defaultWindow, findPreset, findSystem, methodsFor, paperClassLine } from './catalog.js';
 import { CLASS_ONLY, CUSTOM, coordinateNames, customIntegrals, defaultCustomIntegrals, isCustom, isGeneral, startingPoints } from './custom.js';
 import { Editor } from './editor.js';
 import { parseList } from './state.js';
@@ -28,6 +28,7 @@ export class Form {
     this.catalog = catalog;
     this.el = $('form');
     this.offered = [];
+    this.errors = 0;
     $('system').replaceChildren(...catalog.systems.map((s) => option(s.id, s.name)), option(CUSTOM, 'Custom system (formulas)…'));
     // "Start from": every built-in in the general form, those of the paper's class in its form.
     const starts = startingPoints(catalog);
@@ -129,7 +130,15 @@ export class Form {
       wrap.append(el('span', 'method-param-name', `${symbol(p.name)} =`), input);
       row.append(wrap);
     }
-    if (info.composable && this.catalog.compositions?.length) row.append(this.#compositionPicker(info, composition));
+    if (info.composable && this.catalog.compositions?.length) {
+      const picker = this.#compositionPicker(info, composition);
+      row.append(picker);
+      // Offered only where the method as configured is symmetric (DLA^α at α = 0.5), with the
+      // order it reaches; kept in step with its parameters.
+      const sync = () => offerCompositions(picker, info, paramsOf(row), name);
+      for (const input of row.querySelectorAll('input[data-param]')) input.addEventListener('input', sync);
+      sync();
+    }
     const remove = removeButton('Remove this method', `remove ${info.name}`, () => {
       row.remove();
       this.el.dispatchEvent(new Event('change', { bubbles: true }));
@@ -140,6 +149,7 @@ export class Form {
   }
 
   // A composition of a symmetric method's steps raises its order (GET /systems lists them).
+  // Its first option names the method's own order, set by offerCompositions.
   #compositionPicker(info, chosen) {
     const wrap = el('label', 'method-param method-composition');
     const select = el('select');
@@ -272,6 +282,13 @@ export class Form {
     p.setAttribute('role', 'alert');
     if (target) {
       target.classList.add('invalid');
+      // The control itself says it is invalid, and which message describes it.
+      p.id = `error-${++this.errors}`;
+      const control = target.matches('input, select, textarea') ? target : target.querySelector('input, select, textarea');
+      if (control) {
+        control.setAttribute('aria-invalid', 'true');
+        control.setAttribute('aria-describedby', p.id);
+      }
       // A method parameter's or a constraint entry's message goes under its row, not inside
       // the inline label.
       const inline = target.classList.contains('method-param') || target.classList.contains('custom-cell');
@@ -285,6 +302,20 @@ export class Form {
   clearErrors() {
     for (const e of this.el.querySelectorAll('.field-error')) e.remove();
     for (const e of this.el.querySelectorAll('.invalid')) e.classList.remove('invalid');
+    for (const e of this.el.querySelectorAll('[aria-invalid]')) {
+      e.removeAttribute('aria-invalid');
+      e.removeAttribute('aria-describedby');
+    }
+  }
+
+  /** Brings the first invalid field into view and focuses its control: where the eye and the
+   *  keyboard should go after an error. Returns whether there was one. */
+  focusFirstError() {
+    const first = this.el.querySelector('[aria-invalid="true"]') ?? this.el.querySelector('.invalid');
+    if (!first) return false;
+    first.scrollIntoView?.({ block: 'center' });
+    first.focus?.({ preventScroll: true });
+    return true;
   }
 
   #fieldFor(path) {
@@ -386,4 +417,24 @@ function fmt(v) {
 
 function setNumber(input, v) {
   input.value = v === null || v === undefined || Number.isNaN(v) ? '' : String(v);
+}
+
+/** A method row's parameter values, by name, as its inputs hold them. */
+function paramsOf(row) {
+  return Object.fromEntries([...row.querySelectorAll('input[data-param]')].map((i) => [i.dataset.param, Number(i.value)]));
+}
+
+/**
+ * The composition picker of a method row, in step with its parameters: shown only where the
+ * method as configured is symmetric (`composableAt`), its first option the order the method
+ * reaches alone; a choice made where it no longer applies is dropped. The method's name says
+ * the order too.
+ */
+function offerCompositions(picker, info, params, name) {
+  const { composable, order } = composableAt(info, params);
+  const select = picker.querySelector('select');
+  picker.hidden = !composable;
+  if (!composable) select.value = '';
+  select.options[0].textContent = `order ${order}`;
+  name.title = [info.name, `order ${order}`, composable ? '' : 'not symmetric at these parameters: no composition', info.reference].filter(Boolean).join(' · ');
 }

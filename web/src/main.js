@@ -166,6 +166,13 @@ function wire() {
     e.preventDefault();
     run();
   });
+  // The skip link lands on Run, past the form's fields.
+  document.querySelector('.skip-link')?.addEventListener('click', (e) => {
+    e.preventDefault();
+    setView('main');
+    $('run').scrollIntoView({ block: 'center' });
+    $('run').focus({ preventScroll: true });
+  });
   form.el.addEventListener('change', (e) => {
     const id = e.target.id;
     if (id === 'system') switchSystem();
@@ -229,6 +236,8 @@ async function run() {
   if (invalid.length) {
     for (const e of invalid) form.showError(e.path, e.message);
     status('error', 'Fix the marked fields, then run again.');
+    markStale(true);
+    form.focusFirstError();
     return;
   }
   controller?.abort();
@@ -252,6 +261,7 @@ async function run() {
       onEvent: (name, data) => {
         if (controller !== mine) return;
         if (name === 'scene') {
+          markStale(false);
           result = new Result(data);
           plots.reset(result);
           trajectory.reset(result);
@@ -300,6 +310,9 @@ async function run() {
       const where = e.path ? ` (field “${fieldLabel(e.path)}”)` : '';
       status('error', placed ? 'The server rejected a field: see the form.' : 'The server rejected the request.');
       banner($('run-error'), `${e.message}${where}`);
+      // Nothing of this request ran: what the page shows is an earlier run's.
+      markStale(true);
+      if (placed) form.focusFirstError();
     } else {
       result?.interrupt('interrupted');
       status('error', 'The connection failed.');
@@ -310,10 +323,23 @@ async function run() {
       controller = null;
       setBusy(false);
       draw();
+      // The Run button was disabled while the run went, which leaves the focus nowhere:
+      // it goes to the results, unless an invalid field took it.
+      if (document.activeElement === document.body || !document.activeElement) $('results-title').focus({ preventScroll: true });
       // The height held for scrolling is let go once the results have arrived.
       $('status').closest('.results').style.minHeight = '';
     }
   }
+}
+
+// Results of an earlier request, shown while the last one failed before it ran (a field
+// refused): dimmed, a line saying so, the downloads off, until a run starts.
+function markStale(stale) {
+  const panel = $('status').closest('.results');
+  const shown = Boolean(result);
+  panel.classList.toggle('stale', stale && shown);
+  $('stale-note').hidden = !(stale && shown);
+  for (const id of ['download-json', 'download-csv']) $(id).disabled = stale || !shown;
 }
 
 // On a narrow screen the results sit under the form: bring them into view on Run, unless

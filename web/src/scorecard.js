@@ -11,6 +11,7 @@ import { findPreset, findSystem, panelTitles, paperClassLine, presetLabel, syste
 import { INTEGRAL_NAME, INTEGRAL_SHORT, MARKS, PROPERTIES, VERDICTS, notApplicable, propertyMark, sceneIntegrals, systemsOf, verdictTitle } from './verdicts.js';
 import { el } from './dom.js';
 import { humanLabel } from './labels.js';
+import { gridKeys } from './gridkeys.js';
 
 export class ScorecardView {
   /** `onOpen(scene, methods)`: show a scene's plots in the main view. */
@@ -72,7 +73,36 @@ export class ScorecardView {
       el('p', 'criterion', `Criterion: ${card.criterion}`),
       el('p', 'criterion', `Properties: ${card.properties_test}`),
     );
-    this.grid.replaceChildren(el('h3', 'scorecard-caption', 'Properties, per system'), this.#properties(), el('h3', 'scorecard-caption', 'Verdicts, per scene'), this.#verdicts());
+    const verdicts = this.#verdicts();
+    gridKeys(verdicts, 'td.verdict-cell[tabindex]');
+    verdicts.setAttribute('aria-label', 'Verdicts, per scene: arrow keys move between cells, Enter opens a scene');
+    const scroll = (table) => {
+      const box = el('div', 'scorecard-scroll');
+      box.append(table);
+      return box;
+    };
+    this.hint = el('p', 'scroll-hint', 'More scenes to the right: scroll sideways; the method column stays.');
+    this.hint.hidden = true;
+    this.grid.replaceChildren(
+      el('h3', 'scorecard-caption', 'Properties, per system'),
+      scroll(this.#properties()),
+      el('h3', 'scorecard-caption', 'Verdicts, per scene'),
+      this.hint,
+      scroll(verdicts),
+    );
+    this.#cue();
+    if (!this.resize) {
+      this.resize = new ResizeObserver(() => this.#cue());
+      this.resize.observe(this.grid);
+    }
+  }
+
+  // Whether the tables are wider than their box: then a line says more scenes follow, and the
+  // boxes show a shadow on the side that scrolls.
+  #cue() {
+    const boxes = [...this.grid.querySelectorAll('.scorecard-scroll')];
+    for (const box of boxes) box.dataset.overflow = String(box.scrollWidth > box.clientWidth + 1);
+    if (this.hint) this.hint.hidden = !boxes.some((b) => b.dataset.overflow === 'true');
   }
 
   // A row per method; per system, a mark per property.
@@ -162,12 +192,9 @@ export class ScorecardView {
     const failed = run?.status === 'failed' ? ` (run failed: ${run.error})` : '';
     td.title = verdictTitle(v, `${who}, ${INTEGRAL_NAME[integral] ?? integral}${failed}: `);
     Object.assign(td.dataset, { scene: s.id, integral, kind });
-    td.tabIndex = 0;
-    const open = () => this.onOpen(s.scene, this.card.methods.filter((_, i) => !notApplicable(s.runs[i])));
-    td.addEventListener('click', open);
-    td.addEventListener('keydown', (e) => {
-      if (e.key === 'Enter') open();
-    });
+    // Focusable, one Tab stop for the table (gridKeys): Enter opens the scene.
+    td.tabIndex = -1;
+    td.addEventListener('click', () => this.onOpen(s.scene, this.card.methods.filter((_, i) => !notApplicable(s.runs[i]))));
     return td;
   }
 

@@ -33,11 +33,19 @@ export const INTEGRAL_NAME = {
 /** A verdict's number: `1.23e-4`, or `–` for none. */
 export const sci = (x) => (x === null || x === undefined ? '–' : Number(x).toExponential(2));
 
-/** The hover text of a verdict: the numbers behind it. */
+/** Whether a drift is one of an integral consumed (the API's rule: the error sits late at its
+ *  largest and at half the integral or more), not of a late/early ratio above 1. */
+export function consumed(verdict) {
+  return verdict?.kind === 'drift' && Number.isFinite(verdict.ratio) && verdict.ratio <= 1;
+}
+
+/** The hover text of a verdict: the numbers behind it, and why a drift whose ratio is not
+ *  above 1 is one. */
 export function verdictTitle(verdict, context = '') {
   if (!verdict) return `${context}no verdict (no data)`.trim();
   const ratio = verdict.ratio === null || verdict.ratio === undefined ? '∞' : Number(verdict.ratio).toFixed(2);
-  return `${context}${verdict.kind}: max ${sci(verdict.max)}, early max ${sci(verdict.early)}, late mean ${sci(verdict.late)}, late/early ${ratio}`;
+  const why = consumed(verdict) ? ' — the integral is consumed: the error sits at its largest, half the integral’s size or more, to the end' : '';
+  return `${context}${verdict.kind}: max ${sci(verdict.max)}, early max ${sci(verdict.early)}, late mean ${sci(verdict.late)}, late/early ${ratio}${why}`;
 }
 
 /**

@@ -151,3 +151,17 @@ test("a system offers the methods that apply to it and says whether it is in the
   assert.equal(paperClassLine({ member: true, driver: null, why_not: null }), 'In the paper’s class.');
   assert.equal(paperClassLine(null), '');
 });
+
+test('compositions are offered where the method as configured is symmetric, with its order', async () => {
+  const { composableAt } = await import('../src/catalog.js');
+  const dla = catalog.methods.find((m) => m.symmetric_at);
+  assert.ok(dla, 'a method symmetric at one parameter value');
+  const { param, value, order_elsewhere: elsewhere } = dla.symmetric_at;
+  assert.deepEqual(composableAt(dla, { [param]: value }), { composable: true, order: dla.order });
+  assert.deepEqual(composableAt(dla, { [param]: value - 0.1 }), { composable: false, order: elsewhere });
+  assert.deepEqual(composableAt(dla, {}), { composable: dla.params.find((p) => p.name === param).default === value, order: dla.params.find((p) => p.name === param).default === value ? dla.order : elsewhere });
+  const plain = catalog.methods.find((m) => m.composable && !m.symmetric_at);
+  assert.deepEqual(composableAt(plain, {}), { composable: true, order: plain.order });
+  const never = catalog.methods.find((m) => !m.composable);
+  assert.equal(composableAt(never, {}).composable, false);
+});

@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { MARKS, PROPERTIES, propertyMark, runVerdicts, systemsOf, verdictTitle } from '../src/verdicts.js';
+import { MARKS, PROPERTIES, consumed, propertyMark, runVerdicts, systemsOf, verdictTitle } from '../src/verdicts.js';
 
 const methods = [{ id: 'dd', label: 'DD' }, { id: 'leapfrog', label: 'LF' }];
 const prop = (method, system, scene, reversible, fibration) => ({
@@ -102,4 +102,16 @@ test('a method without a step for the system is n/a, the fibration outside the c
   assert.match(fib.title, /not defined outside the paper’s class/);
   assert.equal(MARKS[fib.mark][0], '–');
   assert.deepEqual(PROPERTIES.map((p) => p.id), ['reversible', 'symmetric', 'preserves_fibration']);
+});
+
+test('a drift of a consumed integral says why its ratio is 1', () => {
+  // DLA^0.4's passenger energy on the rotating CVT to t = 1e6: gone within the early window.
+  const drained = { kind: 'drift', max: 1, early: 1, late: 1, ratio: 1 };
+  assert.ok(consumed(drained));
+  assert.match(verdictTitle(drained), /late\/early 1\.00 — the integral is consumed/);
+  const growing = { kind: 'drift', max: 1, early: 0.1, late: 0.9, ratio: 9 };
+  assert.ok(!consumed(growing));
+  assert.doesNotMatch(verdictTitle(growing), /consumed/);
+  assert.ok(!consumed({ kind: 'bounded', max: 1, early: 1, late: 0.5, ratio: 0.5 }));
+  assert.ok(!consumed({ kind: 'drift', max: 1, early: 0, late: 1, ratio: null }));
 });

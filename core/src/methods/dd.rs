@@ -61,6 +61,7 @@ static INFO: MethodInfo = MethodInfo {
     composed_order_limit: Some(4),
     class_only: None,
     instrument: false,
+    symmetric_at: None,
 };
 
 impl Integrator for Dd {

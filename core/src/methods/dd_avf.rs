@@ -58,6 +58,7 @@ static INFO: MethodInfo = MethodInfo {
          (docs/model.md §3)",
     ),
     instrument: false,
+    symmetric_at: None,
 };
 
 /// Gauss–Legendre nodes and weights on [0, 1].

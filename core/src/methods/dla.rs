@@ -12,7 +12,7 @@
 mod general;
 
 use crate::solver::angle_tracker::AngleTracker;
-use crate::methods::integrator::{Integrator, MethodInfo, Stepper};
+use crate::methods::integrator::{Integrator, MethodInfo, Stepper, SymmetricAt};
 use crate::methods::memory::EndOfStep;
 use crate::methods::coupled::coupled_fast_path;
 use crate::solver::newton::{Linearization, NewtonConfig, solve};
@@ -56,6 +56,7 @@ static INFO: MethodInfo = MethodInfo {
     composed_order_limit: None,
     class_only: None,
     instrument: false,
+    symmetric_at: Some(SymmetricAt { param: "alpha", value: 0.5, order_elsewhere: 1 }),
 };
 
 impl Integrator for Dla {

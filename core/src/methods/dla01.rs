@@ -46,6 +46,7 @@ static INFO: MethodInfo = MethodInfo {
     composed_order_limit: None,
     class_only: None,
     instrument: false,
+    symmetric_at: None,
 };
 
 impl Integrator for Dla01 {

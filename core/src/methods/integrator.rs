@@ -33,6 +33,21 @@ pub struct MethodInfo {
     /// reference solve): asked for by its id only, never among the defaults,
     /// [`Method::all`](crate::Method::all) or the cross-product tests.
     pub instrument: bool,
+    /// Where the step is symmetric only at one value of a parameter (DLA^α at α = ½): that
+    /// value, and the order elsewhere; `None` where symmetry does not depend on the parameters.
+    /// What a client offers compositions by, for the method as configured.
+    pub symmetric_at: Option<SymmetricAt>,
+}
+
+/// The one parameter value at which a method's step is symmetric ([`MethodInfo::symmetric_at`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SymmetricAt {
+    /// The parameter.
+    pub param: &'static str,
+    /// Its value there.
+    pub value: f64,
+    /// The method's order at any other value.
+    pub order_elsewhere: u32,
 }
 
 /// What a run steps: a method of the list ([`Integrator`]) or one composed of its steps

@@ -33,6 +33,7 @@ static INFO: MethodInfo = MethodInfo {
     composed_order_limit: None,
     class_only: None,
     instrument: true,
+    symmetric_at: None,
 };
 
 impl Integrator for ReferenceStep {

@@ -52,6 +52,7 @@ static INFO: MethodInfo = MethodInfo {
     composed_order_limit: None,
     class_only: None,
     instrument: false,
+    symmetric_at: None,
 };
 
 impl Integrator for Rk4 {

@@ -257,3 +257,26 @@ fn composed_dd_and_dd_avf_keep_the_energy_on_every_paper_scene() {
         }
     }
 }
+
+/// What `GET /systems` says of where a method is symmetric is what its step does: symmetric
+/// (so composable) at that value with its listed order, not elsewhere, at the order said.
+#[test]
+fn symmetric_at_says_where_a_method_may_be_composed() {
+    let mut checked = 0;
+    for info in nhlab_core::method_infos() {
+        let Some(at) = info.symmetric_at else { continue };
+        let spec = |v: f64| MethodSpec::new(info.id).with(at.param, v);
+        let there = Method::from_spec(&spec(at.value)).unwrap();
+        assert!(there.base.symmetric() && there.order() == info.order, "{}", info.id);
+        assert!(there.composed(Composition::ALL[0]).is_ok());
+        let p = info.params.iter().find(|p| p.name == at.param).unwrap();
+        for v in [p.min + 0.25 * (p.max - p.min), p.min + 0.9 * (p.max - p.min)] {
+            let elsewhere = Method::from_spec(&spec(v)).unwrap();
+            assert!(!elsewhere.base.symmetric(), "{} at {v}", info.id);
+            assert_eq!(elsewhere.order(), at.order_elsewhere, "{} at {v}", info.id);
+            assert!(elsewhere.composed(Composition::ALL[0]).is_err());
+        }
+        checked += 1;
+    }
+    assert!(checked >= 1, "DLA^α says where it is symmetric");
+}

@@ -265,6 +265,21 @@ pub struct MethodInfoView {
     /// solution beside the methods'; `/work-precision` measures against it already). Never
     /// among the defaults.
     pub instrument: bool,
+    /// Where the step is symmetric (so composable) at one value of a parameter only (DLA^α at
+    /// α = 0.5): that value and the order elsewhere; absent where any values do.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub symmetric_at: Option<SymmetricAtView>,
+}
+
+/// A parameter value at which alone a method is symmetric, and its order elsewhere.
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+pub struct SymmetricAtView {
+    /// The parameter.
+    pub param: String,
+    /// Its value there.
+    pub value: f64,
+    /// The method's order at any other value (no composition then).
+    pub order_elsewhere: u32,
 }
 
 /// The limits a request must respect.
@@ -390,6 +405,11 @@ impl SystemsResponse {
                     composable: composable.contains(&m.id),
                     composed_order_limit: m.composed_order_limit,
                     instrument: m.instrument,
+                    symmetric_at: m.symmetric_at.map(|s| SymmetricAtView {
+                        param: s.param.into(),
+                        value: s.value,
+                        order_elsewhere: s.order_elsewhere,
+                    }),
                 })
                 .collect(),
             default_methods: Method::paper_five().iter().map(MethodView::of).collect(),

@@ -9,10 +9,12 @@ use utoipa::ToSchema;
 /// The criterion, as the API documents it and the page shows it.
 pub const CRITERION: &str = "exact: the largest error stays at round-off, \
     max ≤ 1e-10·max(1, |I(0)|); drift: the mean error over the last quarter of the time span \
-    (late) exceeds the largest error over its first 1/32 (early), ratio = late/early > 1; \
-    bounded otherwise. A bounded error reaches its full oscillation within a period or two and \
-    its later mean stays below that early maximum; a growing error ends above anything it \
-    reached early. The constraint residual is measured against 0, the latitude over its section \
+    (late) exceeds the largest error over its first 1/32 (early), ratio = late/early > 1, or \
+    the integral has been consumed: late ≥ |I(0)|/2 and late ≥ 0.9·max (the error sits, to the \
+    end, at its largest value and at half the integral's size or more, however early it got \
+    there); bounded otherwise. A bounded error reaches its full oscillation within a period or \
+    two and its later mean stays below that early maximum; a growing error ends above \
+    anything it reached early. The constraint residual is measured against 0, the latitude over its section \
     crossings. For a failed run, the verdict is of the series up to the failure; for a series \
     with a gap (no values from some time on: the latitude with the passenger at rest or no \
     more section crossings), of its values before the gap.";

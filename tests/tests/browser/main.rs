@@ -77,6 +77,7 @@ mod general;
 mod maps;
 mod page;
 mod precision;
+mod second_pass;
 mod views;
 mod widths;
 
@@ -92,6 +93,7 @@ use general::{general_custom, sleigh_in_explore};
 use maps::map_view;
 use nhlab_tests::TestServer;
 use precision::work_precision_controls;
+use second_pass::second_pass;
 use std::time::Duration;
 use views::{paper_view, scorecard_view, work_precision_view};
 use widths::window_widths;
@@ -134,5 +136,6 @@ async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), S
     window_widths(client, driver, base).await?;
     plot_export(client, driver, base).await?;
     work_precision_controls(client, driver, base).await?;
+    second_pass(client, driver, base).await?;
     dynamics_panels(client, driver, base).await
 }
