@@ -31,8 +31,7 @@ use crate::measure::pace::Pace;
 use crate::model::mechanical::Mechanical;
 use crate::solver::reduced_ode;
 use nalgebra::DVector;
-use ode_solvers::dop_shared::{IntegrationError, OutputType};
-use ode_solvers::dop853::Dop853;
+use ode_solvers::dop_shared::IntegrationError;
 use std::cell::RefCell;
 use std::f64::consts::TAU;
 
@@ -196,26 +195,9 @@ pub fn reference_until<S: Mechanical<N, R>, const N: usize, const R: usize>(
                 let mut tracked = track.borrow_mut();
                 (tracked.chunk, tracked.paused) = (0, false);
             }
-            let mut solver = Dop853::from_param(
-                Ode::<S, N, R> { sys, t1, track: &track, stop },
-                x,
-                t1,
-                t1 - x,
-                y,
-                tol,
-                tol,
-                // ode_solvers' defaults: safety factor, β, step-ratio bounds, h_max (the
-                // segment), initial h.
-                0.9,
-                0.0,
-                0.333,
-                6.0,
-                t1 - t,
-                h,
-                budget,
-                1000,
-                OutputType::Sparse,
-            );
+            // Steps at most the segment, the first the last one's (0 at a segment's start).
+            let ode = Ode::<S, N, R> { sys, t1, track: &track, stop };
+            let mut solver = reduced_ode::dop853(ode, (x, t1), y, tol, t1 - t, h, budget);
             let stats = solver.integrate().map_err(|e| match e {
                 // The budget handed to this solver is what the solve has left of MAX_STEPS.
                 IntegrationError::MaxNumStepReached { x, .. } => {

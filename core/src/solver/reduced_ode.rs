@@ -34,6 +34,41 @@ pub(crate) fn rhs<S: Mechanical<N, R>, const N: usize, const R: usize>(
     }
 }
 
+/// A Dop853 solver of `f` from x to `x_end` at relative and absolute tolerance `tol`, its steps
+/// at most `h_max`, its first `h` (0: chosen by the solver), at most `n_max` steps, keeping
+/// each accepted step (ode_solvers' other parameters at their defaults: safety factor 0.9,
+/// β = 0, step ratio within [0.333, 6], stiffness tested every 1000 steps). The reference
+/// solve and the `reference` method's step both make theirs here.
+pub(crate) fn dop853<F: ode_solvers::System<f64, DVector<f64>>>(
+    f: F,
+    (x, x_end): (f64, f64),
+    y: DVector<f64>,
+    tol: f64,
+    h_max: f64,
+    h: f64,
+    n_max: u32,
+) -> Dop853<f64, DVector<f64>, F> {
+    let dx = x_end - x;
+    Dop853::from_param(
+        f,
+        x,
+        x_end,
+        dx,
+        y,
+        tol,
+        tol,
+        0.9,
+        0.0,
+        0.333,
+        6.0,
+        h_max,
+        h,
+        n_max,
+        1000,
+        OutputType::Sparse,
+    )
+}
+
 /// The system as ode_solvers sees it.
 struct Reduced<'a, S, const N: usize, const R: usize>(&'a S);
 
@@ -61,26 +96,9 @@ pub fn dop853_step<S: Mechanical<N, R>, const N: usize, const R: usize>(
     if let Some((i, turns)) = turns {
         y[i] -= turns;
     }
-    let mut solver = Dop853::from_param(
-        Reduced::<S, N, R>(sys),
-        0.0,
-        h,
-        h,
-        y,
-        tol,
-        tol,
-        // ode_solvers' defaults: safety factor, β, step-ratio bounds, h_max (the step),
-        // initial h (0: chosen by the solver).
-        0.9,
-        0.0,
-        0.333,
-        6.0,
-        h.abs(),
-        0.0,
-        MAX_INNER_STEPS,
-        1000,
-        OutputType::Sparse,
-    );
+    // Steps at most h, the first chosen by the solver.
+    let mut solver =
+        dop853(Reduced::<S, N, R>(sys), (0.0, h), y, tol, h.abs(), 0.0, MAX_INNER_STEPS);
     solver.integrate().map_err(|e| {
         StepFailure::AdaptiveSolve(match e {
             IntegrationError::MaxNumStepReached { .. } => "it needed too many steps",
