@@ -277,6 +277,10 @@ pub enum StepFailure {
     /// The adaptive solve inside a step of the `reference` method failed (why, in words).
     #[error("the adaptive solve (Dop853) inside the step failed: {0}")]
     AdaptiveSolve(&'static str),
+    /// The step of a method written outside nhlab (in Python) raised an error or returned
+    /// what is not a state: its words.
+    #[error("the method's step failed: {0}")]
+    External(&'static str),
     /// The caller asked a measurement of steps to stop (its client went away).
     #[error("stopped: the measurement was cancelled")]
     Stopped,

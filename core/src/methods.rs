@@ -201,6 +201,7 @@ methods!(
     rk4::Rk4,
     rattle::Rattle,
     reference_step::ReferenceStep,
+    external::External,
 );
 
 /// A configured method: one of the list with its parameters, taken alone or as a symmetric
@@ -254,6 +255,7 @@ impl Method {
         if !self.base.symmetric() {
             let why = match self.base {
                 BaseMethod::Dla(_) => "DLA^α is symmetric only for α = 0.5",
+                BaseMethod::External(_) => "it does not declare itself symmetric",
                 _ => "its step is not symmetric",
             };
             return Err(InputError::Composition {
@@ -346,10 +348,11 @@ impl Method {
 
     /// Every method of the list with its default parameters, the paper's five first (so
     /// DLA^α twice, at α = ½ and 0.4): what the scorecard, the benchmarks and the tools run.
-    /// The instruments ([`MethodInfo::instrument`]: the reference) are not among them.
+    /// The instruments ([`MethodInfo::instrument`]: the reference) and the methods written
+    /// outside nhlab ([`MethodInfo::external`]) are not among them.
     pub fn all() -> Vec<Method> {
         let mut out = Self::paper_five().to_vec();
-        for info in method_infos().into_iter().filter(|info| !info.instrument) {
+        for info in method_infos().into_iter().filter(|info| !info.instrument && !info.external) {
             if !out.iter().any(|m| m.info().id == info.id) {
                 // A listed id with its defaults always builds.
                 out.extend(Self::from_spec(&MethodSpec::new(info.id)));

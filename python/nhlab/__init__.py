@@ -11,15 +11,21 @@ interpreter's lock is released while nhlab computes: threads run in parallel.
     r = nhlab.simulate("knife_edge", preset="paper")
     for run in r.runs:
         print(run.label, run.series["energy"].verdict["kind"], run.series["energy"].max.max())
+
+A method written in Python (a subclass of `nhlab.Method`, docs/own-methods.md) may stand
+wherever these functions take a method: nhlab runs its step and measures it as its own.
 """
 
 import json as _json
 
 from . import _nhlab
+from ._own import Method, NewtonError, Registered as _Registered, newton
+from ._own import warn_unless_symmetric as _warn_unless_symmetric
 
 __version__ = _nhlab.__version__
 __all__ = [
-    "InputError", "ServerBusy", "Simulation", "Run", "Series", "SweepRows",
+    "InputError", "ServerBusy", "Simulation", "Run", "Series", "SweepRows", "Method",
+    "NewtonError", "newton",
     "systems", "simulate", "scorecard", "work_precision", "sweep",
 ]
 
@@ -55,6 +61,28 @@ def _call(method, path, body=None, accept=None):
     if status == 503:
         raise ServerBusy(error.get("error"))
     raise RuntimeError(f"nhlab: {status}: {error.get('error')}")
+
+
+def _post(path, body):
+    return _json.loads(_call("POST", path, body))
+
+
+def _symmetry_warnings(own, card):
+    """A scorecard's warnings: each method written in Python that declares itself symmetric
+    and was measured not to be, on a scene."""
+    import warnings
+
+    out = []
+    for p in card.get("properties", []):
+        m = p.get("method", {})
+        method = own.methods.get(int(m["handle"])) if m.get("id") == "python" else None
+        if method is not None and method.symmetric and p.get("symmetric") is False:
+            out.append(f"{method.label()} declares itself symmetric but is not on {p['scene']}: "
+                       f"one step h then one step −h misses the start by "
+                       f"{p.get('symmetry_defect'):.3e}")
+    for text in out:
+        warnings.warn(text, stacklevel=3)
+    return out
 
 
 def _floats(xs):
@@ -130,11 +158,14 @@ class Run:
 
 class Simulation:
     """`simulate`'s answer: the resolved `scene` (a dict: every value after presets and
-    defaults; send it back to reproduce the runs) and one `Run` per method, in order."""
+    defaults; send it back to reproduce the runs), one `Run` per method, in order, and
+    `warnings` (a list of strings: a method written in Python that declares itself
+    symmetric and is not)."""
 
-    def __init__(self, data):
+    def __init__(self, data, warnings=()):
         self.scene = data["scene"]
         self.runs = [Run(r) for r in data["runs"]]
+        self.warnings = list(warnings)
 
     def run(self, label):
         """The run of the method labelled `label` (e.g. "LF", "DLA^0.4")."""
@@ -159,15 +190,18 @@ def simulate(system, preset=None, params=None, q=None, v=None, step=None, t_end=
     "sin(zeta/2)", "direction": "both", "plot": ["x1", "x2"]}) records each run's crossings
     of a Poincaré section, as `Run.section`. Returns a `Simulation`."""
     body = _scene(system, preset, params, q, v, step, t_end, integrals)
-    if methods is not None:
-        body["methods"] = list(methods)
     if points is not None:
         body["points"] = int(points)
     if observables is not None:
         body["observables"] = {str(k): str(f) for k, f in dict(observables).items()}
     if section is not None:
         body["section"] = dict(section)
-    return Simulation(_json.loads(_call("POST", "/simulate", body)))
+    with _Registered() as own:
+        if methods is not None:
+            body["methods"] = own.request(methods)
+        data = _json.loads(_call("POST", "/simulate", body))
+        warned = _warn_unless_symmetric(own, data["scene"], _post)
+        return Simulation(own.answer(data), warned)
 
 
 def scorecard(methods=None, scenes=None, points=None):
@@ -175,13 +209,16 @@ def scorecard(methods=None, scenes=None, points=None):
     the paper's six; each a dict like a `simulate` scene) per integral, and each method's
     measured reversibility and fibration preservation. Returns the answer as a dict."""
     body = {}
-    if methods is not None:
-        body["methods"] = list(methods)
     if scenes is not None:
         body["scenes"] = list(scenes)
     if points is not None:
         body["points"] = int(points)
-    return _json.loads(_call("POST", "/scorecard", body))
+    with _Registered() as own:
+        if methods is not None:
+            body["methods"] = own.request(methods)
+        card = _json.loads(_call("POST", "/scorecard", body))
+        card["warnings"] = _symmetry_warnings(own, card)
+        return own.answer(card)
 
 
 def work_precision(system, preset=None, params=None, q=None, v=None, step=None, t_end=None,
@@ -193,8 +230,6 @@ def work_precision(system, preset=None, params=None, q=None, v=None, step=None, 
     at t_end for each row and the reference. Returns the answer as a dict (rows per method ×
     step)."""
     body = _scene(system, preset, params, q, v, step, t_end, integrals)
-    if methods is not None:
-        body["methods"] = list(methods)
     if steps is not None:
         body["steps"] = _floats(steps)
     if levels is not None:
@@ -203,7 +238,12 @@ def work_precision(system, preset=None, params=None, q=None, v=None, step=None, 
         body["observables"] = {str(k): str(f) for k, f in dict(observables).items()}
     if repeats is not None:
         body["repeats"] = int(repeats)
-    return _json.loads(_call("POST", "/work-precision", body))
+    with _Registered() as own:
+        if methods is not None:
+            body["methods"] = own.request(methods)
+        answer = _json.loads(_call("POST", "/work-precision", body))
+        answer["warnings"] = _warn_unless_symmetric(own, answer["scene"], _post)
+        return own.answer(answer)
 
 
 class SweepRows(list):
@@ -247,15 +287,94 @@ def sweep(spec=None, *, client=None, shards=None, **scene):
     cell × method with its status, cost and verdicts. `spec` is the request as a dict; or give
     its fields as keywords (`sweep(system="knife_edge", axes=[...])`).
 
+    A method written in Python (`nhlab.Method`) may be among the methods, and an axis may
+    take one of its `parameters` (`{"path": "methods[0].theta", "values": [...]}`; one axis
+    per such method).
+
     With `client=` (a `dask.distributed.Client`), the sweep runs as `shards` Dask tasks
     (default: 4 per worker), each computing the cells c with c mod shards = i; the rows are
     the same as without. A worker lost mid-sweep has its tasks retried elsewhere."""
     spec = dict(spec or {}, **scene)
-    if client is None:
-        answer = _json.loads(_call("POST", "/sweep", spec))
-        rows = answer.pop("rows")
-        return SweepRows(rows, answer)
-    from . import _dask
+    with _Registered() as own:
+        spec, axes = _own_axes(own, spec)
+        if client is None:
+            head = _json.loads(_call("POST", "/sweep", spec))
+            rows = head.pop("rows")
+        else:
+            from . import _dask
 
-    head, rows = _dask.sweep(spec, client, shards)
-    return SweepRows(rows, head)
+            head, rows = _dask.sweep(spec, client, shards, own.methods)
+        head, rows = _own_values(own, axes, head, rows)
+        return SweepRows(own.answer(rows), own.answer(head))
+
+
+def _own_axes(own, spec):
+    """`spec` with its methods written in Python named by handle, and each axis over one of
+    their parameters turned into an axis over handles of copies with those values; and
+    those axes: {axis index: (path, parameter values)}."""
+    import re
+
+    methods = spec.get("methods")
+    if methods is None or not any(isinstance(m, Method) or (isinstance(m, dict) and isinstance(
+            m.get("id"), Method)) for m in methods):
+        return spec, {}
+    spec = dict(spec)
+    objects = [m if isinstance(m, Method) else m.get("id") if isinstance(m, dict) else None
+               for m in methods]
+    spec["methods"] = own.request(methods)
+    axes, taken = {}, set()
+    for k, axis in enumerate(spec.get("axes") or []):
+        path = axis.get("path", "") if isinstance(axis, dict) else ""
+        found = re.fullmatch(r"methods\[(\d+)\]\.(\w+)", path)
+        if not found or int(found[1]) >= len(objects) or not isinstance(
+                objects[int(found[1])], Method):
+            continue
+        i, name = int(found[1]), found[2]
+        method = objects[i]
+        if i in taken:
+            raise InputError(f"{method.label()} may be swept along one axis only", f"axes[{k}]")
+        if name not in method.parameters:
+            raise InputError(f"{method.label()} has no parameter '{name}'; its parameters: "
+                             f"{list(method.parameters)}", f"axes[{k}].path")
+        values = _axis_values(axis, k)
+        handles = [own.handle(method.with_params(**{name: x})) for x in values]
+        spec.setdefault("axes", list(spec["axes"]))
+        spec["axes"] = [dict(a) for a in spec["axes"]]
+        spec["axes"][k] = {"path": f"methods[{i}].handle", "values": handles}
+        axes[k] = (path, values)
+        taken.add(i)
+    return spec, axes
+
+
+def _axis_values(axis, k):
+    import numpy as np
+
+    if "values" in axis:
+        return [float(x) for x in axis["values"]]
+    for kind, space in (("linspace", np.linspace), ("logspace", np.geomspace)):
+        if kind in axis:
+            start, stop, n = axis[kind]
+            values = [float(x) for x in space(float(start), float(stop), int(n))]
+            values[0], values[-1] = float(start), float(stop)
+            return values
+    raise InputError("an axis has values, linspace or logspace", f"axes[{k}]")
+
+
+def _own_values(own, axes, head, rows):
+    """The head and rows of a sweep whose `axes` (from `_own_axes`) ran over handles, with
+    the parameters' paths and values back in place of the handles."""
+    if not axes:
+        return head, rows
+    head = dict(head)
+    head["axes"] = [dict(a) for a in head["axes"]]
+    by_handle = {}
+    for k, (path, values) in axes.items():
+        by_handle[k] = {int(h): x for h, x in zip(head["axes"][k]["values"], values)}
+        head["axes"][k]["path"], head["axes"][k]["values"] = path, values
+    out = []
+    for r in rows:
+        r = dict(r)
+        r["values"] = [by_handle[k][int(x)] if k in by_handle else x
+                       for k, x in enumerate(r["values"])]
+        out.append(r)
+    return head, out

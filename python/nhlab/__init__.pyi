@@ -7,8 +7,31 @@ import numpy.typing as npt
 
 __version__: str
 
-Method = str | Mapping[str, Any]
 System = str | Mapping[str, Any]
+
+class Method:
+    """A method written in Python: subclass it and write `step` (docs/own-methods.md)."""
+
+    name: str | None
+    order: int
+    symmetric: bool
+    parameters: Sequence[str]
+    def step(
+        self, system: Any, q: npt.NDArray[np.float64], v: npt.NDArray[np.float64], h: float,
+        memory: dict[str, Any],
+    ) -> tuple[npt.ArrayLike, npt.ArrayLike]: ...
+    def label(self) -> str: ...
+    def params(self) -> dict[str, float]: ...
+    def composed(self, composition: str) -> dict[str, Any]: ...
+    def with_params(self, **values: float) -> Method: ...
+
+class NewtonError(ArithmeticError): ...
+
+def newton(
+    residual: Any, jacobian: Any, x0: npt.ArrayLike, tol: float = ..., max_iter: int = ...,
+) -> npt.NDArray[np.float64]: ...
+
+MethodSpec = str | Mapping[str, Any] | Method
 
 class InputError(ValueError):
     message: str
@@ -40,6 +63,7 @@ class Run:
 class Simulation:
     scene: dict[str, Any]
     runs: list[Run]
+    warnings: list[str]
     def run(self, label: str) -> Run: ...
 
 class SweepRows(list[dict[str, Any]]):
@@ -55,14 +79,14 @@ def simulate(
     v: Sequence[float] | npt.ArrayLike | None = ...,
     step: float | None = ...,
     t_end: float | None = ...,
-    methods: Iterable[Method] | None = ...,
+    methods: Iterable[MethodSpec] | None = ...,
     integrals: Iterable[str] | None = ...,
     points: int | None = ...,
     observables: Mapping[str, str] | None = ...,
     section: Mapping[str, Any] | None = ...,
 ) -> Simulation: ...
 def scorecard(
-    methods: Iterable[Method] | None = ...,
+    methods: Iterable[MethodSpec] | None = ...,
     scenes: Iterable[Mapping[str, Any]] | None = ...,
     points: int | None = ...,
 ) -> dict[str, Any]: ...
@@ -74,7 +98,7 @@ def work_precision(
     v: Sequence[float] | npt.ArrayLike | None = ...,
     step: float | None = ...,
     t_end: float | None = ...,
-    methods: Iterable[Method] | None = ...,
+    methods: Iterable[MethodSpec] | None = ...,
     integrals: Iterable[str] | None = ...,
     steps: Sequence[float] | None = ...,
     levels: int | None = ...,

@@ -5,8 +5,13 @@
 //! interpreter's lock is released while a request computes, so Python threads run in parallel,
 //! and Ctrl-C stops the computation and raises `KeyboardInterrupt`.
 //!
+//! Methods written in Python are registered with the core and stepped by its run loop
+//! ([`method`]).
+//!
 //! For sweeps on a Dask cluster, [`shard`] computes one shard's rows on the calling thread's
 //! process, as `nhlab sweep --shard I/N` does.
+
+mod method;
 
 use axum::body::Body;
 use axum::http::{Method, Request, header};
@@ -217,6 +222,9 @@ fn _nhlab(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(request, m)?)?;
     m.add_function(wrap_pyfunction!(shard, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(method::register, m)?)?;
+    m.add_function(wrap_pyfunction!(method::unregister, m)?)?;
+    m.add_class::<method::PySystem>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

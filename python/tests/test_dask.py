@@ -67,3 +67,26 @@ def test_a_bad_spec_raises_at_once(client):
     with pytest.raises(nhlab.InputError) as e:
         nhlab.sweep(dict(SPEC, axes=[{"path": "params.nope", "values": [1]}]), client=client)
     assert e.value.path == "axes[0].path"
+
+
+def test_a_method_written_in_python_travels_to_the_workers(client):
+    from nhlab.examples import ProjectedVerlet
+
+    spec = {"system": "knife_edge", "preset": "paper-perturbed", "t_end": 30, "points": 20,
+            "methods": ["leapfrog", ProjectedVerlet()],
+            "axes": [{"path": "methods[1].damping", "values": [0.0, 0.5, 1.0]},
+                     {"path": "params.epsilon", "values": [0.0, 0.1]}]}
+    here = nhlab.sweep(spec)
+    there = nhlab.sweep(spec, client=client)
+    assert untimed(there) == untimed(here) and there.head == here.head
+    assert {r["method"]["label"] for r in there} == {"LF", "projected Verlet"}
+
+    class Local(nhlab.Method):
+        def __init__(self):
+            self.lock = threading.Lock()  # does not pickle
+
+        def step(self, system, q, v, h, memory):
+            return q, v
+
+    with pytest.raises(TypeError, match="cannot be sent to the Dask workers"):
+        nhlab.sweep(dict(spec, methods=[Local()]), client=client)

@@ -39,6 +39,10 @@ pub const POWI_WEIGHT: f64 = 8.0;
 /// call, its inputs and outputs.
 pub const EVALUATION_NS: f64 = 30.0;
 
+/// Nanoseconds per step of a method written in Python (`python`): the call's cost and a
+/// small step's numpy work.
+pub const EXTERNAL_NS: f64 = 20_000.0;
+
 /// Accelerations a step of the `reference` method evaluates: its Dop853 solve's twelve per
 /// inner step, at the ~8 inner steps a step of 0.1 takes at tolerance 10⁻¹⁵ on the built-ins'
 /// time scales (measured with `core/examples/cost_check.rs`), rounded up. Its cost grows with
@@ -99,6 +103,8 @@ pub fn built_in_ns(method: &Method) -> f64 {
         // 467 (the sleigh).
         BaseMethod::Rk4(_) => 700.0,
         BaseMethod::ReferenceStep(_) => REFERENCE_EVALUATIONS * 200.0,
+        // A call into Python and a few numpy operations: microseconds, whatever the system.
+        BaseMethod::External(_) => EXTERNAL_NS,
     }
 }
 
@@ -132,6 +138,8 @@ impl Evaluations {
             (BaseMethod::Rk4(_), true) => (1.0, 5.0, 4.0, 0.0),
             (BaseMethod::ReferenceStep(_), false) => (0.0, E, 0.0, E),
             (BaseMethod::ReferenceStep(_), true) => (0.0, E, E, 0.0),
+            // Not known: a leap-frog's worth, beside the call's own cost.
+            (BaseMethod::External(_), _) => (1.0, 2.0, 1.0, 2.0),
             // Counted 3 gradients and 2 Hessians (4 driver terms); RATTLE 4, 2 (2.3).
             (BaseMethod::Dla(_) | BaseMethod::Rattle(_), false) => (1.0, 6.0, 3.0, 6.0),
             // The driver alone by Newton, the passenger one linear solve.

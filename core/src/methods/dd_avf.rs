@@ -59,6 +59,7 @@ static INFO: MethodInfo = MethodInfo {
     ),
     instrument: false,
     symmetric_at: None,
+    external: false,
 };
 
 /// Gauss–Legendre nodes and weights on [0, 1].

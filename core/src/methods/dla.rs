@@ -57,6 +57,7 @@ static INFO: MethodInfo = MethodInfo {
     class_only: None,
     instrument: false,
     symmetric_at: Some(SymmetricAt { param: "alpha", value: 0.5, order_elsewhere: 1 }),
+    external: false,
 };
 
 impl Integrator for Dla {

@@ -17,6 +17,9 @@ pub struct GeneralMemory<const N: usize, const R: usize> {
     potential: f64,
     v: Vector<N>,
     acceleration: Option<Vector<N>>,
+    /// The key of an external method's memory ([`External`](super::External)) and the
+    /// configuration its last step ended on; 0 for none.
+    external: (u64, Vector<N>),
 }
 
 impl<const N: usize, const R: usize> GeneralMemory<N, R> {
@@ -29,6 +32,7 @@ impl<const N: usize, const R: usize> GeneralMemory<N, R> {
             potential: f64::NAN,
             v: Vector::repeat(f64::NAN),
             acceleration: None,
+            external: (0, Vector::repeat(f64::NAN)),
         }
     }
 
@@ -77,6 +81,20 @@ impl<const N: usize, const R: usize> GeneralMemory<N, R> {
             (self.v, self.acceleration) = (*v, Some(acceleration));
         }
     }
+
+    /// The key an external method's last step left its memory under, if that step ended
+    /// at `q`.
+    #[inline]
+    pub fn external_key(&self, q: &Vector<N>) -> Option<u64> {
+        let (key, at) = self.external;
+        (key != 0 && at == *q).then_some(key)
+    }
+
+    /// Remembers an external method's memory key at the configuration its step ended on.
+    #[inline]
+    pub fn remember_external_key(&mut self, q: &Vector<N>, key: u64) {
+        self.external = (key, *q);
+    }
 }
 
 /// A general step on a class system (RATTLE's) keeps this memory in a class run too; it
@@ -92,6 +110,9 @@ impl<const N: usize, const R: usize> Recall<N, R> for GeneralMemory<N, R> {
     fn moved(&mut self, from: &Vector<N>, to: &Vector<N>) {
         if self.q == *from {
             self.q = *to;
+        }
+        if self.external.1 == *from {
+            self.external.1 = *to;
         }
     }
 }

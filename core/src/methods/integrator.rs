@@ -37,6 +37,11 @@ pub struct MethodInfo {
     /// value, and the order elsewhere; `None` where symmetry does not depend on the parameters.
     /// What a client offers compositions by, for the method as configured.
     pub symmetric_at: Option<SymmetricAt>,
+    /// Whether its step is code outside nhlab registered in the process (a method written
+    /// in Python, [`External`](super::External)): only the nhlab Python package has any, a
+    /// server none; never among the defaults or the cross-product tests, and not offered
+    /// by the page.
+    pub external: bool,
 }
 
 /// The one parameter value at which a method's step is symmetric ([`MethodInfo::symmetric_at`]).

@@ -26,6 +26,7 @@ static INFO: MethodInfo = MethodInfo {
     class_only: None,
     instrument: false,
     symmetric_at: None,
+    external: false,
 };
 
 impl Integrator for Leapfrog {

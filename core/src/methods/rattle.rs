@@ -37,6 +37,7 @@ static INFO: MethodInfo = MethodInfo {
     class_only: None,
     instrument: false,
     symmetric_at: None,
+    external: false,
 };
 
 impl Integrator for Rattle {

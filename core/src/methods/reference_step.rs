@@ -34,6 +34,7 @@ static INFO: MethodInfo = MethodInfo {
     class_only: None,
     instrument: true,
     symmetric_at: None,
+    external: false,
 };
 
 impl Integrator for ReferenceStep {

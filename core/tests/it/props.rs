@@ -14,6 +14,7 @@ use proptest::test_runner::{Config, TestRunner};
 fn methods(alpha: f64) -> Vec<Method> {
     method_infos()
         .iter()
+        .filter(|info| !info.external)
         .map(|info| {
             let spec = MethodSpec::new(info.id);
             let spec = if info.id == "dla" { spec.with("alpha", alpha) } else { spec };

@@ -373,7 +373,7 @@ impl SystemView {
             paper_class,
             methods: method_infos()
                 .into_iter()
-                .filter(|m| in_class || m.class_only.is_none())
+                .filter(|m| !m.external && (in_class || m.class_only.is_none()))
                 .map(|m| m.id.to_owned())
                 .collect(),
             exact: info.exact.is_some(),
@@ -393,8 +393,10 @@ impl SystemsResponse {
         let composable = nhlab_core::methods::composable();
         Self {
             systems: SystemView::all().to_vec(),
+            // A method written in Python exists only in the Python package's process.
             methods: method_infos()
                 .into_iter()
+                .filter(|m| !m.external)
                 .map(|m| MethodInfoView {
                     id: m.id.into(),
                     name: m.name.into(),

@@ -1,0 +1,182 @@
+"""Methods written in Python (`nhlab.Method`): the docs' leap-frog equals the built-in on
+every paper scene; every instrument measures a user's method as a built-in (scorecard,
+work–precision, compositions, sweeps with its parameters as an axis); a failing step ends its
+run as `failed` with why, where; and a server never runs one."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import nhlab
+from nhlab.examples import Leapfrog, ProjectedVerlet
+
+
+def coordinates(system):
+    [entry] = [s for s in nhlab.systems()["systems"] if s["id"] == system]
+    return entry["general"]["coordinates"]
+
+
+@pytest.mark.parametrize("scene", [(s["system"], s["preset"])
+                                   for s in nhlab.systems()["paper_scenes"]])
+def test_the_docs_leapfrog_is_the_built_in_over_ten_thousand_steps(scene):
+    system, preset = scene
+    names = coordinates(system)
+    observed = {**{c: c for c in names}, **{f"{c}_dot": f"{c}_dot" for c in names}}
+    first = nhlab.simulate(system, preset=preset, methods=["leapfrog"], points=2)
+    step = first.scene["step"]
+    r = nhlab.simulate(system, preset=preset, methods=["leapfrog", Leapfrog()],
+                       t_end=10_000 * step, points=200, observables=observed)
+    built_in, own = r.runs
+    assert own.status == "ok" and own.steps == built_in.steps >= 10_000
+    assert own.method == {"id": "python", "name": "my LF", "label": "my LF"}
+    for name in observed:
+        a, b = built_in.observables[name], own.observables[name]
+        # The built-in sums its increments with compensation and the docs' twenty lines do
+        # not: they part by round-off, which the dynamics amplify (measured ≤ 1e-11).
+        assert np.max(np.abs(a - b)) <= 2e-11 * max(1.0, np.max(np.abs(a))), (scene, name)
+    for integral, series in built_in.series.items():
+        assert series.verdict["kind"] == own.series[integral].verdict["kind"], integral
+
+
+def test_the_scorecard_measures_a_users_method_beside_the_built_ins():
+    scenes = [{"system": "knife_edge", "preset": "paper-perturbed", "t_end": 20},
+              {"system": "chaplygin_sleigh", "t_end": 20}]
+    card = nhlab.scorecard(methods=["leapfrog", Leapfrog(), ProjectedVerlet()], scenes=scenes)
+    props = {(p["method"]["label"], p["scene"]): p for p in card["properties"]}
+    for scene in ("knife_edge/paper-perturbed", "chaplygin_sleigh/free"):
+        lf, mine, projected = (props[(m, scene)] for m in ("LF", "my LF", "projected Verlet"))
+        assert lf["reversible"] and mine["reversible"] and mine["symmetric"]
+        assert mine["constraint_defect"] < 1e-12
+        assert not projected["symmetric"] and not projected["reversible"]
+        assert projected["constraint_defect"] < 1e-12
+    assert props[("my LF", "knife_edge/paper-perturbed")]["preserves_fibration"]
+    assert card["warnings"] == []
+    runs = {r["method"]["label"]: r for r in card["scenes"][0]["runs"]}
+    assert {k: v["kind"] for k, v in runs["my LF"]["verdicts"].items()} == {
+        k: v["kind"] for k, v in runs["LF"]["verdicts"].items()}
+
+
+class Liar(ProjectedVerlet):
+    name = "liar"
+    symmetric = True
+
+
+def test_a_method_that_declares_itself_symmetric_and_is_not_is_warned_of():
+    with pytest.warns(UserWarning, match="liar declares itself symmetric but is not"):
+        r = nhlab.simulate("knife_edge", preset="paper", methods=[Liar().composed("p4s3")],
+                           t_end=10)
+    assert r.runs[0].label == "liar∘p4s3" and r.runs[0].status == "ok"
+    assert len(r.warnings) == 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert nhlab.simulate("knife_edge", preset="paper", methods=[Leapfrog()],
+                              t_end=10).warnings == []
+    with pytest.raises(nhlab.InputError, match="does not declare itself symmetric") as e:
+        nhlab.simulate("knife_edge", preset="paper", methods=[ProjectedVerlet().composed("p4s3")])
+    assert e.value.path == "methods[0].composition"
+
+
+def slope(rows, label, key="final_error"):
+    pts = [(r["step"], r[key]) for r in rows if r["method"]["label"] == label and r[key]]
+    (h0, e0), (h1, e1) = pts[0], pts[-1]
+    return np.log(e0 / e1) / np.log(h0 / h1)
+
+
+def test_work_precision_measures_a_users_order_and_its_compositions():
+    wp = nhlab.work_precision("knife_edge", preset="paper", t_end=4,
+                              steps=[0.1, 0.05, 0.025], repeats=1,
+                              methods=["leapfrog", Leapfrog(), Leapfrog().composed("p4s3")])
+    rows = wp["rows"]
+    assert abs(slope(rows, "LF") - slope(rows, "my LF")) < 1e-6
+    assert 1.8 < slope(rows, "my LF") < 2.2
+    assert 3.6 < slope(rows, "my LF∘p4s3") < 4.4
+
+
+def test_a_sweep_takes_a_users_parameter_as_an_axis():
+    spec = {"system": "knife_edge", "preset": "paper-perturbed", "t_end": 50, "points": 50,
+            "methods": [ProjectedVerlet(), "leapfrog"],
+            "axes": [{"path": "methods[0].damping", "values": [0.0, 0.5, 1.0]},
+                     {"path": "params.epsilon", "values": [0.0, 0.1]}]}
+    rows = nhlab.sweep(spec)
+    assert rows.head["axes"][0] == {"path": "methods[0].damping", "values": [0.0, 0.5, 1.0]}
+    mine = [r for r in rows if r["method_index"] == 0]
+    assert [r["values"] for r in mine] == [[d, e] for d in (0.0, 0.5, 1.0) for e in (0.0, 0.1)]
+    assert {r["method"]["damping"] for r in mine} == {0.0, 0.5, 1.0}
+    assert all(r["method"]["label"] == "projected Verlet" for r in mine)
+    # Without the projection (damping 0) the constraint is lost; with it, kept.
+    kinds = {tuple(r["values"]): r["verdicts"]["constraint"]["kind"] for r in mine}
+    assert kinds[(1.0, 0.1)] == "exact" and kinds[(0.0, 0.1)] != "exact"
+    frame = rows.to_pandas()
+    assert list(frame["methods[0].damping"][:2]) == [0.0, 0.0]
+
+
+class Raises(nhlab.Method):
+    name = "raises"
+
+    def step(self, system, q, v, h, memory):
+        memory["n"] = memory.get("n", 0) + 1
+        if memory["n"] == 3:
+            raise ZeroDivisionError("on purpose")
+        return q + h * v, v
+
+
+class Short(nhlab.Method):
+    def step(self, system, q, v, h, memory):
+        return q[:-1], v
+
+
+class Diverges(nhlab.Method):
+    def step(self, system, q, v, h, memory):
+        return q * np.nan, v
+
+
+def test_a_failing_step_ends_its_run_as_failed_with_why_and_where():
+    r = nhlab.simulate("knife_edge", preset="paper", t_end=5,
+                       methods=[Raises(), Short(), Diverges(), "leapfrog"])
+    raised, short, diverged, lf = r.runs
+    assert raised.status == "failed" and raised.steps == 2
+    assert "step 3 (t = 0.6" in raised.error and "ZeroDivisionError: on purpose" in raised.error
+    assert short.status == "failed" and "q1 returned has 2 entries" in short.error
+    assert short.method["label"] == "Short"
+    assert diverged.status == "failed" and "non-finite" in diverged.error
+    assert lf.status == "ok"
+
+
+def test_the_system_is_refused_outside_a_step_and_a_method_is_checked():
+    kept = []
+
+    class Keeps(nhlab.Method):
+        def step(self, system, q, v, h, memory):
+            kept.append(system)
+            assert system.n == 3 and system.r == 2 and system.in_paper_class
+            assert np.allclose(system.A(q) @ system.project(q, v + 1), 0, atol=1e-14)
+            assert system.zeta_index == 2 and system.A_x(q[2]).shape == (2, 3)
+            return q, v
+
+    nhlab.simulate("knife_edge", preset="paper", t_end=1, methods=[Keeps()])
+    with pytest.raises(RuntimeError, match="only inside the method's step"):
+        kept[0].V(np.zeros(3))
+
+    class NoOrder(nhlab.Method):
+        order = 1.5
+
+    with pytest.raises(TypeError, match="order must be a whole number"):
+        nhlab.simulate("knife_edge", methods=[NoOrder()])
+
+
+def test_a_general_system_is_seen_whole(http):
+    sleigh = {"system": "chaplygin_sleigh", "t_end": 30}
+    r = nhlab.simulate(**sleigh, methods=["leapfrog", Leapfrog()], points=20,
+                       observables={"th": "theta_dot"})
+    lf, mine = r.runs
+    assert np.max(np.abs(lf.observables["th"] - mine.observables["th"])) < 1e-12
+
+
+def test_a_server_never_runs_a_method_written_in_python(http):
+    status, answer = http.call("POST", "/simulate", {"system": "knife_edge",
+                                                     "methods": [{"id": "python", "handle": 1}]})
+    assert status == 422 and answer["path"] == "methods[0]"
+    assert "only in the nhlab Python package" in answer["error"]
+    _, listing = http.call("GET", "/systems")
+    assert "python" not in [m["id"] for m in listing["methods"]]
