@@ -58,9 +58,11 @@ def draw(answer, integral, title):
         cells[(row["cell"], row["method_index"])] = row
     for m, method in enumerate(methods):
         x0 = LEFT + m * (width_panel + GAP)
-        swept = [a["path"] for a in axes if a["path"].startswith("methods")]
-        # A method axis changes the method cell by cell: name it by its id and the axis.
-        name = f'{method["id"]}, {swept[0]} swept' if swept else method["label"]
+        own = ("methods", "methods.", f"methods[{m}].")
+        swept = [a["path"] for a in axes if a["path"] == "methods" or a["path"].startswith(own[1:])]
+        # A method axis changes the method cell by cell: name it by its id (a method written
+        # in Python by its name) and the axis.
+        name = f'{method.get("name", method["id"])}, {swept[0]} swept' if swept else method["label"]
         out.append(f'<text x="{x0 + width_panel / 2}" y="{TOP - 8}" text-anchor="middle" font-weight="bold">{name}</text>')
         for i, y in enumerate(ys):
             for j, x in enumerate(xs):

@@ -207,7 +207,9 @@ def simulate(system, preset=None, params=None, q=None, v=None, step=None, t_end=
 def scorecard(methods=None, scenes=None, points=None):
     """`POST /scorecard`: the verdict of every method (default: all) on every scene (default:
     the paper's six; each a dict like a `simulate` scene) per integral, and each method's
-    measured reversibility and fibration preservation. Returns the answer as a dict."""
+    measured reversibility and fibration preservation. Returns the answer as a dict; with
+    methods written in Python, its `warnings` name those that declare themselves symmetric
+    and were measured not to be."""
     body = {}
     if scenes is not None:
         body["scenes"] = list(scenes)
@@ -217,7 +219,8 @@ def scorecard(methods=None, scenes=None, points=None):
         if methods is not None:
             body["methods"] = own.request(methods)
         card = _json.loads(_call("POST", "/scorecard", body))
-        card["warnings"] = _symmetry_warnings(own, card)
+        if own.methods:
+            card["warnings"] = _symmetry_warnings(own, card)
         return own.answer(card)
 
 
@@ -228,7 +231,7 @@ def work_precision(system, preset=None, params=None, q=None, v=None, step=None, 
     run time, at step sizes `steps` (a list) or h, h/2, … (`levels`, default 4), the fastest
     of `repeats` (default 3). `observables` (formulas by name, as for `simulate`) are taken
     at t_end for each row and the reference. Returns the answer as a dict (rows per method ×
-    step)."""
+    step; with methods written in Python, `warnings` as `Simulation.warnings`)."""
     body = _scene(system, preset, params, q, v, step, t_end, integrals)
     if steps is not None:
         body["steps"] = _floats(steps)
@@ -242,17 +245,31 @@ def work_precision(system, preset=None, params=None, q=None, v=None, step=None, 
         if methods is not None:
             body["methods"] = own.request(methods)
         answer = _json.loads(_call("POST", "/work-precision", body))
-        answer["warnings"] = _warn_unless_symmetric(own, answer["scene"], _post)
+        if own.methods:
+            answer["warnings"] = _warn_unless_symmetric(own, answer["scene"], _post)
         return own.answer(answer)
 
 
 class SweepRows(list):
-    """`sweep`'s rows (a list of dicts, by cell then method, as `POST /sweep` gives them) and
-    `head`: the axes with their values, the methods, the integrals, the cell count."""
+    """`sweep`'s rows (a list of dicts, by cell then method, as `POST /sweep` gives them),
+    `head`: the axes with their values, the methods, the integrals, the cell count, and
+    `warnings` (a list of strings: methods written in Python that declare themselves
+    symmetric and are not, measured on the first cell's scene)."""
 
-    def __init__(self, rows, head):
+    def __init__(self, rows, head, warnings=()):
         super().__init__(rows)
         self.head = head
+        self.warnings = list(warnings)
+
+    def to_json(self, path=None):
+        """The sweep as `POST /sweep`'s JSON answer (the head's fields and `rows`), as text,
+        also written to `path` if given: the page's Map view opens it (methods written in
+        Python included)."""
+        text = _json.dumps({**self.head, "rows": list(self)}, allow_nan=False)
+        if path is not None:
+            with open(path, "w") as f:
+                f.write(text)
+        return text
 
     def to_pandas(self):
         """The rows as a tidy pandas DataFrame: a column per axis path, the method's label,
@@ -305,7 +322,9 @@ def sweep(spec=None, *, client=None, shards=None, **scene):
 
             head, rows = _dask.sweep(spec, client, shards, own.methods)
         head, rows = _own_values(own, axes, head, rows)
-        return SweepRows(own.answer(rows), own.answer(head))
+        first = next((r.get("simulate") for r in rows if r.get("simulate")), None)
+        warned = _warn_unless_symmetric(own, first, _post) if first else []
+        return SweepRows(own.answer(rows), own.answer(head), warned)
 
 
 def _own_axes(own, spec):

@@ -181,12 +181,15 @@ def warn_unless_symmetric(registered, scene, call):
     for h, m in declared.items():
         props = _properties(card, h)
         if props is not None and props.get("symmetric") is False:
-            text = (f"{m.label()} declares itself symmetric but is not: one step h then one "
+            params = ", ".join(f"{k} = {x:g}" for k, x in m.params().items())
+            name = f"{m.label()} ({params})" if params else m.label()
+            text = (f"{name} declares itself symmetric but is not: one step h then one "
                     f"step −h misses the start by {props.get('symmetry_defect'):.3e} on "
                     f"{scene.get('system') if isinstance(scene.get('system'), str) else 'the system'}; "
                     "its compositions do not raise its order")
-            warnings.warn(text, stacklevel=3)
-            out.append(text)
+            if text not in out:
+                warnings.warn(text, stacklevel=3)
+                out.append(text)
     return out
 
 

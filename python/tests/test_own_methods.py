@@ -3,6 +3,7 @@ every paper scene; every instrument measures a user's method as a built-in (scor
 work–precision, compositions, sweeps with its parameters as an axis); a failing step ends its
 run as `failed` with why, where; and a server never runs one."""
 
+import json
 import warnings
 
 import numpy as np
@@ -63,7 +64,7 @@ class Liar(ProjectedVerlet):
 
 
 def test_a_method_that_declares_itself_symmetric_and_is_not_is_warned_of():
-    with pytest.warns(UserWarning, match="liar declares itself symmetric but is not"):
+    with pytest.warns(UserWarning, match=r"liar \(damping = 1\) declares itself symmetric but is not"):
         r = nhlab.simulate("knife_edge", preset="paper", methods=[Liar().composed("p4s3")],
                            t_end=10)
     assert r.runs[0].label == "liar∘p4s3" and r.runs[0].status == "ok"
@@ -109,6 +110,18 @@ def test_a_sweep_takes_a_users_parameter_as_an_axis():
     assert kinds[(1.0, 0.1)] == "exact" and kinds[(0.0, 0.1)] != "exact"
     frame = rows.to_pandas()
     assert list(frame["methods[0].damping"][:2]) == [0.0, 0.0]
+    assert rows.warnings == []
+    saved = json.loads(rows.to_json())
+    assert saved["rows"] == list(rows) and saved["axes"] == rows.head["axes"]
+
+
+def test_a_sweep_warns_of_a_method_that_is_not_symmetric_at_each_value():
+    with pytest.warns(UserWarning):
+        rows = nhlab.sweep(system="knife_edge", preset="paper", t_end=5, points=10,
+                           methods=[Liar()],
+                           axes=[{"path": "methods[0].damping", "values": [0.5, 1.0]}])
+    assert sorted(w.split(" declares")[0] for w in rows.warnings) == [
+        "liar (damping = 0.5)", "liar (damping = 1)"]
 
 
 class Raises(nhlab.Method):

@@ -2,7 +2,9 @@
 // `POST /sweep`, streamed, drawn as a heat map of the chosen method's verdict on the chosen
 // integral (or of log₁₀ of its largest error) that fills in as cells arrive, in any order;
 // with one axis, a line plot of every method's largest error beside it. Hovering a cell
-// names it and gives its numbers; clicking it opens that run in Explore. Presets
+// names it and gives its numbers; clicking it opens that run in Explore. A sweep saved as
+// JSON opens from a file (the JSON download, or a sweep the Python package published, whose
+// methods written in Python run nowhere else: their cells do not open). Presets
 // (map-presets.json) set the scene and the axes and compute at once. Its state is the form's
 // plus the map's settings, in the URL as `?view=map&…` (sweep.js); `run=1` computes on load.
 
@@ -14,7 +16,7 @@ import { MapControls } from './mapcontrols.js';
 import { MapLine } from './mapline.js';
 import PRESETS from './map-presets.json';
 import { axisPaths, cellAtXY, cellXY, decodeSettings, mapPresets, mapQuery, presetSetup, sweepBody } from './sweep.js';
-import { SweepResult, cellLines, cellState, fmt } from './sweepresult.js';
+import { SweepResult, cellLines, cellState, fmt, sweepFromJSON, writtenInPython } from './sweepresult.js';
 import { VERDICTS } from './verdicts.js';
 import { download, el } from './dom.js';
 import { fileButtons } from './export.js';
@@ -64,6 +66,7 @@ export class MapView {
     root.querySelector('.map-csv').addEventListener('click', () => {
       if (this.result) download(`${this.computed.stem}.csv`, 'text/csv', this.result.toCSV());
     });
+    root.querySelector('.map-open').addEventListener('change', (e) => this.#openFile(e.target));
     this.#presetButtons();
   }
 
@@ -255,7 +258,39 @@ export class MapView {
 
   #open(cell) {
     const row = this.result?.row(cell, this.controls.read().method);
+    if (writtenInPython(row)) {
+      this.#status('done', `${row.method.label ?? row.method.name} is written in Python: it runs only in the nhlab Python package, so its run cannot be opened here.`);
+      return;
+    }
     if (row?.simulate) this.onOpen(row.simulate);
+  }
+
+  // A sweep saved as JSON, shown as if computed here: its own axes, methods and integrals.
+  async #openFile(input) {
+    const file = input.files?.[0];
+    if (!file) return;
+    this.controller?.abort();
+    this.errorBox.hidden = true;
+    let result;
+    try {
+      result = sweepFromJSON(JSON.parse(await file.text()));
+    } catch (e) {
+      this.#status('error', `Cannot open ${file.name}: ${e.message}.`);
+      return;
+    } finally {
+      input.value = '';
+    }
+    this.result = result;
+    this.computedFor = null;
+    this.computed = { caption: `${file.name} (opened from a file)`, stem: file.name.replace(/\.json$/i, '') };
+    const xs = result.axes.length === 1 ? result.axes[0].values : [];
+    this.logX = xs.length > 2 && xs.every((x) => x > 0) && Math.abs(Math.log(xs[2] / xs[1]) - Math.log(xs[1] / xs[0])) < 1e-9;
+    this.#offer();
+    this.#busy(false);
+    this.#render();
+    const runs = result.rows();
+    const python = runs.some(writtenInPython) ? ' Methods written in Python ran in the Python package: their cells show their numbers but do not open in Explore.' : '';
+    this.#status('done', `Opened ${file.name}: ${result.cells} cells, ${runs.length} runs. Hover a cell for its numbers; click it to open its plots in Explore.${python}`);
   }
 
   #presetButtons() {

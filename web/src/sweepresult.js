@@ -1,5 +1,6 @@
 // A sweep as it streams in: the `start` event's axes, methods and integrals, then each cell's
-// rows as its `cell` event arrives (in any order), the progress and the closing counts. What
+// rows as its `cell` event arrives (in any order), the progress and the closing counts; or
+// one saved as JSON, opened from a file (`sweepFromJSON`). What
 // the map draws of a cell for a method and integral, the lines its tooltip shows, and the
 // downloads: JSON in the shape of `POST /sweep`'s JSON answer (the rows ordered by cell,
 // then method) and CSV with the columns of its CSV answer. Pure, so node tests cover it.
@@ -127,4 +128,45 @@ export function fmt(v) {
 
 function csvField(s) {
   return /[",\n\r]/.test(s) ? `"${s.replace(/"/g, '""')}"` : s;
+}
+
+/**
+ * A sweep saved as JSON (the page's JSON download, `POST /sweep`'s JSON answer, or
+ * `SweepRows.to_json()` in Python, which may hold methods written in Python) as a finished
+ * result; throws an Error that says what the file lacks.
+ */
+export function sweepFromJSON(data) {
+  const fail = (what) => {
+    throw new Error(`this is not a sweep saved as JSON: ${what}`);
+  };
+  if (!data || typeof data !== 'object' || Array.isArray(data)) fail('expected an object');
+  const axes = data.axes;
+  if (!Array.isArray(axes) || !axes.length || axes.length > 3) fail('"axes" must list 1 to 3 axes');
+  for (const [k, a] of axes.entries()) {
+    if (typeof a?.path !== 'string' || !Array.isArray(a.values) || !a.values.length || !a.values.every(Number.isFinite)) {
+      fail(`axes[${k}] needs a "path" and a non-empty list of numbers "values"`);
+    }
+  }
+  if (!Array.isArray(data.methods) || !data.methods.length) fail('"methods" must be a non-empty list');
+  if (!Array.isArray(data.integrals)) fail('"integrals" must be a list');
+  if (!Array.isArray(data.rows)) fail('"rows" must be a list');
+  const cells = axes.reduce((n, a) => n * a.values.length, 1);
+  if (data.cells !== undefined && data.cells !== cells) fail(`"cells" is ${data.cells}, but the axes make ${cells}`);
+  const result = new SweepResult({ ...data, cells });
+  const byCell = new Map();
+  for (const [i, row] of data.rows.entries()) {
+    if (!Number.isInteger(row?.cell) || row.cell < 0 || row.cell >= cells || !Number.isInteger(row.method_index)) {
+      fail(`rows[${i}] needs a "cell" below ${cells} and a "method_index"`);
+    }
+    if (!byCell.has(row.cell)) byCell.set(row.cell, []);
+    byCell.get(row.cell).push(row);
+  }
+  for (const [cell, rows] of byCell) result.addCell({ cell, rows });
+  result.finish({ rows: data.rows.length, opened: true });
+  return result;
+}
+
+/** Whether a row's method was written in Python: it runs only in the Python package. */
+export function writtenInPython(row) {
+  return row?.method?.id === 'python';
 }

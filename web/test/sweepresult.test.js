@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { SweepResult, cellLines, cellState, fmt } from '../src/sweepresult.js';
+import { SweepResult, cellLines, cellState, fmt, sweepFromJSON, writtenInPython } from '../src/sweepresult.js';
 import { cellColor, decadeRange, KIND_COLORS, logError, tickStep, viridis } from '../src/heatmap.js';
 import { powerOfTen } from '../src/axes.js';
 
@@ -133,4 +133,21 @@ test('colours: verdicts by kind, errors on a log scale over whole decades', () =
   assert.equal(tickStep(21, 600, 52), 2);
   assert.equal(tickStep(5, 600, 52), 1);
   assert.equal(powerOfTen(-12), '10⁻¹²');
+});
+
+test('a sweep saved as JSON opens as a finished result, and a bad file says what it lacks', () => {
+  const saved = filled([0, 1, 2, 3, 4, 5]).toJSON();
+  const python = { id: 'python', name: 'my LF', label: 'my LF' };
+  saved.methods[1] = python;
+  for (const r of saved.rows) if (r.method_index === 1) r.method = python;
+  const opened = sweepFromJSON(JSON.parse(JSON.stringify(saved)));
+  assert.equal(opened.received, 6);
+  assert.equal(opened.fraction, 1);
+  assert.deepEqual(opened.toJSON(), saved);
+  assert.equal(writtenInPython(opened.row(2, 1)), true);
+  assert.equal(writtenInPython(opened.row(2, 0)), false);
+  assert.throws(() => sweepFromJSON([]), /expected an object/);
+  assert.throws(() => sweepFromJSON({ ...saved, axes: [] }), /"axes" must list 1 to 3 axes/);
+  assert.throws(() => sweepFromJSON({ ...saved, cells: 7 }), /"cells" is 7, but the axes make 6/);
+  assert.throws(() => sweepFromJSON({ ...saved, rows: [{ cell: 9, method_index: 0 }] }), /rows\[0\] needs a "cell" below 6/);
 });

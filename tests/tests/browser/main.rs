@@ -90,7 +90,7 @@ use explore::{
 use export::plot_export;
 use fantoccini::Client;
 use general::{general_custom, sleigh_in_explore};
-use maps::map_view;
+use maps::{map_opens_a_file, map_view};
 use nhlab_tests::TestServer;
 use precision::work_precision_controls;
 use second_pass::second_pass;
@@ -133,6 +133,7 @@ async fn scenarios(client: &Client, driver: &Driver, base: &str) -> Result<(), S
     scorecard_view(client, driver, base).await?;
     work_precision_view(client, driver, base).await?;
     map_view(client, driver, base).await?;
+    map_opens_a_file(client, base).await?;
     window_widths(client, driver, base).await?;
     plot_export(client, driver, base).await?;
     work_precision_controls(client, driver, base).await?;

@@ -264,3 +264,78 @@ return {
   url: location.search,
 };
 "#;
+
+/// A sweep saved as JSON with a method written in Python among its methods, as the Python
+/// package publishes one (`SweepRows.to_json`), opens in the Map view from a file: its own
+/// axes and methods, every cell drawn with its verdict, and a cell of the Python method is
+/// named but not opened in Explore (it runs only in the Python package).
+pub(crate) async fn map_opens_a_file(client: &Client, base: &str) -> Result<(), String> {
+    let link = format!("{base}?view=map");
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    let dir = tempfile::tempdir().map_err(|e| format!("no temporary folder: {e}"))?;
+    let path = dir.path().join("projected-verlet.json");
+    std::fs::write(&path, saved_sweep().to_string()).map_err(|e| format!("cannot write: {e}"))?;
+    let input = client
+        .wait()
+        .at_most(Duration::from_secs(20))
+        .for_element(Locator::Css("#map-open"))
+        .await
+        .map_err(|e| format!("the map offers no file to open: {e}"))?;
+    input.send_keys(&path.to_string_lossy()).await.map_err(|e| format!("cannot pick it: {e}"))?;
+    let opened = "const t = document.querySelector('#view-map .view-status').textContent; \
+                  return t.startsWith('Opened') || t.startsWith('Cannot') ? t : null";
+    let text = poll(client, opened, Duration::from_secs(20)).await?;
+    assert!(text.as_str().unwrap_or_default().contains("6 cells, 12 runs"), "{text}");
+    let report = js(client, MAP_REPORT).await?;
+    assert_eq!(report["cells"], json!(6), "{report}");
+    assert_eq!(report["drawn"], json!(6), "every cell is drawn: {report}");
+    assert_eq!(report["axes"], json!(["method 1, damping", "ε (epsilon)"]), "{report}");
+    let kinds = json!(["bounded", "bounded", "bounded", "drift", "drift", "drift"]);
+    assert_eq!(report["kinds"], kinds, "the Python method's verdicts: {report}");
+    let options = js(
+        client,
+        "return [...document.querySelectorAll('#map-method option')].map((o) => o.textContent)",
+    )
+    .await?;
+    assert_eq!(options, json!(["projected Verlet", "LF"]), "the file's methods");
+    // Opening the Python method's cell names why it cannot run here.
+    let refused = js(
+        client,
+        "document.querySelector('.heatmap-canvas').heatmap.onOpen(4); \
+         return document.querySelector('#view-map .view-status').textContent",
+    )
+    .await?;
+    let refused = refused.as_str().unwrap_or_default();
+    assert!(refused.contains("written in Python"), "{refused}");
+    Ok(())
+}
+
+/// Six cells (damping 0 and 1 × ε 0, 0.1, 0.2) of a method written in Python beside LF.
+fn saved_sweep() -> Value {
+    let python = json!({"id": "python", "name": "projected Verlet", "label": "projected Verlet"});
+    let lf = json!({"id": "leapfrog", "label": "LF"});
+    let verdict =
+        |kind: &str| json!({"kind": kind, "max": 0.1, "early": 0.01, "late": 0.05, "ratio": 5.0});
+    let mut rows = Vec::new();
+    for cell in 0..6 {
+        let (damping, epsilon) = ([0.0, 1.0][cell / 3], [0.0, 0.1, 0.2][cell % 3]);
+        let values = json!([damping, epsilon]);
+        for (index, method) in [&python, &lf].into_iter().enumerate() {
+            let kind = if index == 0 && cell >= 3 { "drift" } else { "bounded" };
+            rows.push(json!({
+                "cell": cell, "values": values, "method_index": index, "method": method,
+                "status": "ok", "error": null, "steps": 955, "cpu_ms": 1.0,
+                "newton_iterations": null, "gaps": {},
+                "verdicts": {"energy": verdict(kind), "constraint": verdict("exact")},
+                "simulate": {"system": "knife_edge", "preset": "paper-perturbed",
+                             "methods": [method], "points": 50},
+            }));
+        }
+    }
+    json!({
+        "axes": [{"path": "methods[0].damping", "values": [0.0, 1.0]},
+                 {"path": "params.epsilon", "values": [0.0, 0.1, 0.2]}],
+        "methods": [python, lf], "integrals": ["energy", "constraint"], "cells": 6,
+        "criterion": "drift when late/early > 2", "rows": rows,
+    })
+}
