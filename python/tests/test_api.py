@@ -238,6 +238,7 @@ INTERRUPTED = r"""
 import json, os, signal, sys, threading, time
 import nhlab
 from nhlab import _nhlab
+from nhlab.examples import Leapfrog
 
 # Python keeps SIGINT ignored when it starts with it ignored (a background job of a script,
 # as CI may run it); a terminal's Ctrl-C raises KeyboardInterrupt: make it so here too.
@@ -262,6 +263,9 @@ spec = {"system": "knife_edge", "methods": ["dd"], "step": 1e-5, "t_end": 100, "
 print(json.dumps({
     "request": interrupted(lambda: nhlab.sweep(spec)),
     "shard": interrupted(lambda: _nhlab.shard(json.dumps(spec), 0, 1, 2)),
+    # A method written in Python holds the interpreter's lock while it steps.
+    "python": interrupted(lambda: nhlab.simulate("cvt_pendulum", preset="rotating", t_end=1e6,
+                                                 methods=[Leapfrog()], points=10)),
     "after": nhlab.simulate("knife_edge", t_end=1, methods=["leapfrog"]).runs[0].status,
 }))
 """
@@ -272,7 +276,7 @@ def test_ctrl_c_stops_a_long_call_and_its_runs():
                          timeout=120)
     assert out.returncode == 0, out.stderr[-2000:]
     result = json.loads(out.stdout)
-    for call in ("request", "shard"):
+    for call in ("request", "shard", "python"):
         elapsed, cpu_after = result[call]
         assert elapsed < 3.0, (call, elapsed)
         # Runs left behind would burn a second or more of CPU each.
