@@ -77,9 +77,10 @@ def _symmetry_warnings(own, card):
         m = p.get("method", {})
         method = own.methods.get(int(m["handle"])) if m.get("id") == "python" else None
         if method is not None and method.symmetric and p.get("symmetric") is False:
+            defect = p.get("symmetry_defect")
             out.append(f"{method.label()} declares itself symmetric but is not on {p['scene']}: "
-                       f"one step h then one step −h misses the start by "
-                       f"{p.get('symmetry_defect'):.3e}")
+                       f"one step h then one step −h misses the start"
+                       + (f" by {defect:.3e}" if defect is not None else ""))
     for text in out:
         warnings.warn(text, stacklevel=3)
     return out
@@ -254,7 +255,7 @@ class SweepRows(list):
     """`sweep`'s rows (a list of dicts, by cell then method, as `POST /sweep` gives them),
     `head`: the axes with their values, the methods, the integrals, the cell count, and
     `warnings` (a list of strings: methods written in Python that declare themselves
-    symmetric and are not, measured on the first cell's scene)."""
+    symmetric and are not, measured on the scene of the first cell that ran)."""
 
     def __init__(self, rows, head, warnings=()):
         super().__init__(rows)
@@ -322,7 +323,7 @@ def sweep(spec=None, *, client=None, shards=None, **scene):
 
             head, rows = _dask.sweep(spec, client, shards, own.methods)
         head, rows = _own_values(own, axes, head, rows)
-        first = next((r.get("simulate") for r in rows if r.get("simulate")), None)
+        first = next((r["simulate"] for r in rows if r.get("status") == "ok"), None)
         warned = _warn_unless_symmetric(own, first, _post) if first else []
         return SweepRows(own.answer(rows), own.answer(head), warned)
 
@@ -357,6 +358,8 @@ def _own_axes(own, spec):
                              f"{list(method.parameters)}", f"axes[{k}].path")
         values = _axis_values(axis, k)
         handles = [own.handle(method.with_params(**{name: x})) for x in values]
+        # The method as listed never runs with its own value: only its copies are measured.
+        own.replaced.add(own.handle(method))
         spec.setdefault("axes", list(spec["axes"]))
         spec["axes"] = [dict(a) for a in spec["axes"]]
         spec["axes"][k] = {"path": f"methods[{i}].handle", "values": handles}
@@ -366,16 +369,48 @@ def _own_axes(own, spec):
 
 
 def _axis_values(axis, k):
-    import numpy as np
+    """An axis's values as the core computes them (server/src/sweep/axis.rs `spaced`): the
+    ends exactly as given, interior values to 15 significant digits, the same checks."""
+    import math
 
     if "values" in axis:
-        return [float(x) for x in axis["values"]]
-    for kind, space in (("linspace", np.linspace), ("logspace", np.geomspace)):
-        if kind in axis:
-            start, stop, n = axis[kind]
-            values = [float(x) for x in space(float(start), float(stop), int(n))]
-            values[0], values[-1] = float(start), float(stop)
-            return values
+        values = [float(x) for x in axis["values"]]
+        most = systems()["limits"]["max_sweep_cells"]
+        if not values or len(values) > most:
+            raise InputError(f"values must number 1 to {most} (max_sweep_cells)",
+                             f"axes[{k}].values")
+        return values
+    for kind in ("linspace", "logspace"):
+        if kind not in axis:
+            continue
+        path, log = f"axes[{k}].{kind}", kind == "logspace"
+        spec = axis[kind]
+        if not isinstance(spec, (list, tuple)) or len(spec) != 3:
+            raise InputError("give [start, stop, n]: three numbers", path)
+        start, stop, n = (float(x) for x in spec)
+        if not (math.isfinite(start) and math.isfinite(stop)):
+            raise InputError("start and stop must be finite", path)
+        if not (n >= 1 and n == int(n)):
+            raise InputError(f"n must be a whole number ≥ 1, got {n:g}", path)
+        most = systems()["limits"]["max_sweep_cells"]
+        if n > most:
+            raise InputError(f"{n:g} values exceed the limit of {most} cells per sweep "
+                             "(max_sweep_cells)", path)
+        if log and not (start > 0 and stop > 0):
+            raise InputError("a logarithmic axis needs start and stop above 0, got "
+                             f"{start:g} and {stop:g}", path)
+        n = int(n)
+        a, b = (math.log(start), math.log(stop)) if log else (start, stop)
+        values = []
+        for i in range(n):
+            if i == 0:
+                values.append(start)
+            elif i == n - 1:
+                values.append(stop)
+            else:
+                x = a + (b - a) * (i / (n - 1))
+                values.append(float(f"{math.exp(x) if log else x:.14e}"))
+        return values
     raise InputError("an axis has values, linspace or logspace", f"axes[{k}]")
 
 

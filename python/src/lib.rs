@@ -225,6 +225,8 @@ fn _nhlab(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(method::register, m)?)?;
     m.add_function(wrap_pyfunction!(method::unregister, m)?)?;
     m.add_class::<method::PySystem>()?;
+    let finalizing = wrap_pyfunction!(method::_finalizing, m)?;
+    m.py().import("atexit")?.call_method1("register", (finalizing,))?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -18,6 +18,7 @@ use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyTuple};
 use std::cell::Cell;
 use std::collections::{HashMap, VecDeque};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 
 /// The system of the step being taken on this thread, if one is.
@@ -51,14 +52,14 @@ impl Drop for Entered {
 /// A Python thread state kept on a thread that steps methods written in Python, with the
 /// interpreter's lock released: acquiring the lock for a step is then a switch of the
 /// current thread state, where without it each step would create and destroy one (about
-/// ten microseconds). Dropped when the thread ends.
+/// ten microseconds). Freed when the thread ends.
 struct Resident(*mut pyo3::ffi::PyThreadState);
 
 impl Resident {
     fn new() -> Self {
         // SAFETY: called on a thread without a Python thread state (checked), so not holding
-        // the interpreter's lock;
-        // `PyGILState_Ensure` makes this thread's state and takes the lock, and
+        // the interpreter's lock. `PyGILState_Ensure` makes this thread's state and takes the
+        // lock, and
         // `PyEval_SaveThread` releases the lock, keeping the state (its count stays 1, so
         // later Ensure/Release pairs switch to it instead of making and freeing one).
         unsafe {
@@ -73,20 +74,29 @@ impl Resident {
     }
 }
 
+/// Set by an `atexit` hook when the interpreter begins to shut down: from then on a thread
+/// that ends leaves its thread state alone (taking the lock while Python shuts down would end
+/// the thread inside a Rust destructor and abort the process; the stable ABI cannot ask).
+pub static FINALIZING: AtomicBool = AtomicBool::new(false);
+
 impl Drop for Resident {
     fn drop(&mut self) {
-        if self.0.is_null() {
+        if self.0.is_null() || FINALIZING.load(Ordering::Acquire) {
             return;
         }
-        // SAFETY: the state made in `new`, on this thread, which does not hold the lock
-        // between steps; taking the lock with it and releasing the count of 1 frees it.
+        // SAFETY: the state made in `new`, on this thread, which holds no lock between steps;
+        // taking the lock with it and releasing the count of 1 frees it.
         unsafe {
-            if pyo3::ffi::Py_IsInitialized() != 0 {
-                pyo3::ffi::PyEval_RestoreThread(self.0);
-                pyo3::ffi::PyGILState_Release(pyo3::ffi::PyGILState_STATE::PyGILState_UNLOCKED);
-            }
+            pyo3::ffi::PyEval_RestoreThread(self.0);
+            pyo3::ffi::PyGILState_Release(pyo3::ffi::PyGILState_STATE::PyGILState_UNLOCKED);
         }
     }
+}
+
+/// `_finalizing()`: registered with `atexit`, see [`FINALIZING`].
+#[pyfunction]
+pub fn _finalizing() {
+    FINALIZING.store(true, Ordering::Release);
 }
 
 thread_local! {
@@ -370,21 +380,39 @@ struct PyStep {
 }
 
 impl PyStep {
-    /// A copy of the dict left under `from` (a new dict for 0 or one no longer kept), kept
-    /// under `to`.
+    /// A copy of the dict left under `from` (a new dict for key 0), kept under `to`. No lock
+    /// is held while Python code runs (a copy or a dropped dict may run a finaliser, which
+    /// may step this method on another thread).
     fn memory<'py>(&self, py: Python<'py>, (from, to): (u64, u64)) -> PyResult<Bound<'py, PyDict>> {
-        let mut memories = self.memories.lock().unwrap_or_else(PoisonError::into_inner);
-        let dict = match memories.by_key.get(&from) {
+        let before = match from {
+            0 => None,
+            key => {
+                let memories = self.memories.lock().unwrap_or_else(PoisonError::into_inner);
+                let kept = memories.by_key.get(&key).map(|d| d.clone_ref(py));
+                Some(kept.ok_or_else(|| {
+                    PyRuntimeError::new_err(format!(
+                        "the memory the previous step left is no longer kept (only the \
+                         newest {KEPT} are: more runs or branches of this method at once)"
+                    ))
+                })?)
+            }
+        };
+        let dict = match before {
             Some(before) => before.bind(py).copy()?,
             None => PyDict::new(py),
         };
-        memories.by_key.insert(to, dict.clone().unbind());
-        memories.order.push_back(to);
-        while memories.order.len() > KEPT {
-            if let Some(old) = memories.order.pop_front() {
-                memories.by_key.remove(&old);
+        let mut evicted = Vec::new();
+        {
+            let mut memories = self.memories.lock().unwrap_or_else(PoisonError::into_inner);
+            memories.by_key.insert(to, dict.clone().unbind());
+            memories.order.push_back(to);
+            while memories.order.len() > KEPT {
+                if let Some(old) = memories.order.pop_front() {
+                    evicted.extend(memories.by_key.remove(&old));
+                }
             }
         }
+        drop(evicted);
         Ok(dict)
     }
 

@@ -285,9 +285,9 @@ export class MapView {
     this.computed = { caption: `${file.name} (opened from a file)`, stem: file.name.replace(/\.json$/i, '') };
     const xs = result.axes.length === 1 ? result.axes[0].values : [];
     this.logX = xs.length > 2 && xs.every((x) => x > 0) && Math.abs(Math.log(xs[2] / xs[1]) - Math.log(xs[1] / xs[0])) < 1e-9;
-    this.#offer();
     this.#busy(false);
-    this.#render();
+    // The link no longer computes on load: it names the form's scene, not the file.
+    this.#sync();
     const runs = result.rows();
     const python = runs.some(writtenInPython) ? ' Methods written in Python ran in the Python package: their cells show their numbers but do not open in Explore.' : '';
     this.#status('done', `Opened ${file.name}: ${result.cells} cells, ${runs.length} runs. Hover a cell for its numbers; click it to open its plots in Explore.${python}`);

@@ -155,8 +155,9 @@ export function sweepFromJSON(data) {
   const result = new SweepResult({ ...data, cells });
   const byCell = new Map();
   for (const [i, row] of data.rows.entries()) {
-    if (!Number.isInteger(row?.cell) || row.cell < 0 || row.cell >= cells || !Number.isInteger(row.method_index)) {
-      fail(`rows[${i}] needs a "cell" below ${cells} and a "method_index"`);
+    const m = row?.method_index;
+    if (!Number.isInteger(row?.cell) || row.cell < 0 || row.cell >= cells || !Number.isInteger(m) || m < 0 || m >= data.methods.length) {
+      fail(`rows[${i}] needs a "cell" below ${cells} and a "method_index" below ${data.methods.length}`);
     }
     if (!byCell.has(row.cell)) byCell.set(row.cell, []);
     byCell.get(row.cell).push(row);

@@ -150,4 +150,5 @@ test('a sweep saved as JSON opens as a finished result, and a bad file says what
   assert.throws(() => sweepFromJSON({ ...saved, axes: [] }), /"axes" must list 1 to 3 axes/);
   assert.throws(() => sweepFromJSON({ ...saved, cells: 7 }), /"cells" is 7, but the axes make 6/);
   assert.throws(() => sweepFromJSON({ ...saved, rows: [{ cell: 9, method_index: 0 }] }), /rows\[0\] needs a "cell" below 6/);
+  assert.throws(() => sweepFromJSON({ ...saved, rows: [{ cell: 0, method_index: -1 }] }), /"method_index" below 2/);
 });

@@ -65,10 +65,13 @@ pub fn register(step: Arc<dyn ExternalStep>) -> u32 {
 
 /// Forgets the step registered under `handle` (a run still stepping it fails).
 pub fn unregister(handle: u32) {
-    let mut registry = REGISTRY.write().unwrap_or_else(PoisonError::into_inner);
-    if let Some(map) = registry.as_mut() {
-        map.remove(&handle);
-    }
+    let removed = {
+        let mut registry = REGISTRY.write().unwrap_or_else(PoisonError::into_inner);
+        registry.as_mut().and_then(|map| map.remove(&handle))
+    };
+    // Dropped after the lock is released: dropping the step may run outside code (a Python
+    // object's finaliser) that registers or steps another method.
+    drop(removed);
 }
 
 fn lookup(handle: u32) -> Option<Arc<dyn ExternalStep>> {
