@@ -8,7 +8,8 @@
 //! taken on this thread (a pointer set for the call's duration, [`Entered`]), so it costs
 //! nothing to hand over, and refuses to work outside a step. `memory` is a shallow copy of the
 //! dict the step before left (see [`nhlab_core::methods::External`] for the keys), so two
-//! branches from one point each start from what was there; the last [`KEPT`] dicts are kept.
+//! branches from one point each start from what was there; the newest [`KEPT_PER_RUN`] of
+//! each of the [`KEPT_RUNS`] most recently stepped runs are kept.
 
 use nhlab_core::methods::external::{self, ExternalStep, SystemView};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLike1, PyArrayMethods, PyUntypedArrayMethods};
@@ -358,15 +359,45 @@ fn class(s: &dyn SystemView) -> PyResult<&dyn nhlab_core::methods::external::Cla
     })
 }
 
-/// How many of a method's memory dicts are kept (the newest): enough for the branches of the
-/// property checks and for as many runs at once.
-const KEPT: usize = 1024;
+/// How many steps' memory dicts are kept per run (the newest): enough for the branches of
+/// the property checks, which step a few times from one point.
+const KEPT_PER_RUN: usize = 64;
 
-/// A method's memory dicts by key, the oldest first in `order`.
+/// How many runs' memories are kept (the most recently stepped): far more than run at once.
+const KEPT_RUNS: usize = 256;
+
+/// A method's memory dicts by key, each with its run (the key of the run's first step).
 #[derive(Default)]
 struct Memories {
-    by_key: HashMap<u64, Py<PyDict>>,
-    order: VecDeque<u64>,
+    by_key: HashMap<u64, (u64, Py<PyDict>)>,
+    /// Each run's keys, oldest first, and when it last stepped.
+    runs: HashMap<u64, (VecDeque<u64>, u64)>,
+    clock: u64,
+}
+
+impl Memories {
+    /// Keeps `dict` under `to` for `run`; returns what no longer fits, to be dropped once
+    /// the lock is released.
+    fn keep(&mut self, run: u64, to: u64, dict: Py<PyDict>) -> Vec<Py<PyDict>> {
+        self.clock += 1;
+        let mut dropped = Vec::new();
+        self.by_key.insert(to, (run, dict));
+        let (keys, used) = self.runs.entry(run).or_default();
+        keys.push_back(to);
+        *used = self.clock;
+        while keys.len() > KEPT_PER_RUN {
+            if let Some(old) = keys.pop_front() {
+                dropped.extend(self.by_key.remove(&old).map(|(_, d)| d));
+            }
+        }
+        if self.runs.len() > KEPT_RUNS {
+            let oldest = self.runs.iter().min_by_key(|(_, (_, used))| *used).map(|(r, _)| *r);
+            if let Some((keys, _)) = oldest.and_then(|r| self.runs.remove(&r)) {
+                dropped.extend(keys.iter().filter_map(|k| self.by_key.remove(k)).map(|(_, d)| d));
+            }
+        }
+        dropped
+    }
 }
 
 /// A registered `nhlab.Method`.
@@ -380,39 +411,33 @@ struct PyStep {
 }
 
 impl PyStep {
-    /// A copy of the dict left under `from` (a new dict for key 0), kept under `to`. No lock
-    /// is held while Python code runs (a copy or a dropped dict may run a finaliser, which
-    /// may step this method on another thread).
+    /// A copy of the dict left under `from` (a new dict for key 0, a new run), kept under
+    /// `to`. No lock is held while Python code runs (a copy or a dropped dict may run a
+    /// finaliser, which may step this method on another thread).
     fn memory<'py>(&self, py: Python<'py>, (from, to): (u64, u64)) -> PyResult<Bound<'py, PyDict>> {
         let before = match from {
             0 => None,
             key => {
                 let memories = self.memories.lock().unwrap_or_else(PoisonError::into_inner);
-                let kept = memories.by_key.get(&key).map(|d| d.clone_ref(py));
+                let kept = memories.by_key.get(&key).map(|(run, d)| (*run, d.clone_ref(py)));
                 Some(kept.ok_or_else(|| {
                     PyRuntimeError::new_err(format!(
-                        "the memory the previous step left is no longer kept (only the \
-                         newest {KEPT} are: more runs or branches of this method at once)"
+                        "the memory the previous step left is no longer kept (a method keeps \
+                         the newest {KEPT_PER_RUN} steps' of each of its {KEPT_RUNS} most \
+                         recently stepped runs)"
                     ))
                 })?)
             }
         };
-        let dict = match before {
-            Some(before) => before.bind(py).copy()?,
-            None => PyDict::new(py),
+        let (run, dict) = match before {
+            Some((run, before)) => (run, before.bind(py).copy()?),
+            None => (to, PyDict::new(py)),
         };
-        let mut evicted = Vec::new();
-        {
+        let dropped = {
             let mut memories = self.memories.lock().unwrap_or_else(PoisonError::into_inner);
-            memories.by_key.insert(to, dict.clone().unbind());
-            memories.order.push_back(to);
-            while memories.order.len() > KEPT {
-                if let Some(old) = memories.order.pop_front() {
-                    evicted.extend(memories.by_key.remove(&old));
-                }
-            }
-        }
-        drop(evicted);
+            memories.keep(run, to, dict.clone().unbind())
+        };
+        drop(dropped);
         Ok(dict)
     }
 

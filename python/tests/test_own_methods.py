@@ -209,3 +209,13 @@ def test_a_server_never_runs_a_method_written_in_python(http):
     assert "only in the nhlab Python package" in answer["error"]
     _, listing = http.call("GET", "/systems")
     assert "python" not in [m["id"] for m in listing["methods"]]
+
+
+def test_runs_of_one_method_at_once_each_keep_their_memory():
+    # Five runs of one object share its registration; each steps with its own memory,
+    # however the interpreter's lock is handed between them.
+    r = nhlab.simulate("cvt_pendulum", preset="rotating", t_end=1000, points=20,
+                       methods=[Leapfrog()] * 5, observables={"z": "zeta"})
+    assert [run.status for run in r.runs] == ["ok"] * 5, [run.error for run in r.runs]
+    for run in r.runs[1:]:
+        assert np.array_equal(run.observables["z"], r.runs[0].observables["z"])
