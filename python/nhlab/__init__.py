@@ -20,6 +20,7 @@ import json as _json
 
 from . import _nhlab
 from ._own import Method, NewtonError, Registered as _Registered, newton
+from ._own import card_warnings as _card_warnings
 from ._own import warn_unless_symmetric as _warn_unless_symmetric
 
 __version__ = _nhlab.__version__
@@ -65,25 +66,6 @@ def _call(method, path, body=None, accept=None):
 
 def _post(path, body):
     return _json.loads(_call("POST", path, body))
-
-
-def _symmetry_warnings(own, card):
-    """A scorecard's warnings: each method written in Python that declares itself symmetric
-    and was measured not to be, on a scene."""
-    import warnings
-
-    out = []
-    for p in card.get("properties", []):
-        m = p.get("method", {})
-        method = own.methods.get(int(m["handle"])) if m.get("id") == "python" else None
-        if method is not None and method.symmetric and p.get("symmetric") is False:
-            defect = p.get("symmetry_defect")
-            out.append(f"{method.label()} declares itself symmetric but is not on {p['scene']}: "
-                       f"one step h then one step −h misses the start"
-                       + (f" by {defect:.3e}" if defect is not None else ""))
-    for text in out:
-        warnings.warn(text, stacklevel=3)
-    return out
 
 
 def _floats(xs):
@@ -221,7 +203,7 @@ def scorecard(methods=None, scenes=None, points=None):
             body["methods"] = own.request(methods)
         card = _json.loads(_call("POST", "/scorecard", body))
         if own.methods:
-            card["warnings"] = _symmetry_warnings(own, card)
+            card["warnings"] = _card_warnings(own, card)
         return own.answer(card)
 
 
@@ -360,7 +342,6 @@ def _own_axes(own, spec):
         handles = [own.handle(method.with_params(**{name: x})) for x in values]
         # The method as listed never runs with its own value: only its copies are measured.
         own.replaced.add(own.handle(method))
-        spec.setdefault("axes", list(spec["axes"]))
         spec["axes"] = [dict(a) for a in spec["axes"]]
         spec["axes"][k] = {"path": f"methods[{i}].handle", "values": handles}
         axes[k] = (path, values)
@@ -369,49 +350,12 @@ def _own_axes(own, spec):
 
 
 def _axis_values(axis, k):
-    """An axis's values as the core computes them (server/src/sweep/axis.rs `spaced`): the
-    ends exactly as given, interior values to 15 significant digits, the same checks."""
-    import math
-
-    if "values" in axis:
-        values = [float(x) for x in axis["values"]]
-        most = systems()["limits"]["max_sweep_cells"]
-        if not values or len(values) > most:
-            raise InputError(f"values must number 1 to {most} (max_sweep_cells)",
-                             f"axes[{k}].values")
-        return values
-    for kind in ("linspace", "logspace"):
-        if kind not in axis:
-            continue
-        path, log = f"axes[{k}].{kind}", kind == "logspace"
-        spec = axis[kind]
-        if not isinstance(spec, (list, tuple)) or len(spec) != 3:
-            raise InputError("give [start, stop, n]: three numbers", path)
-        start, stop, n = (float(x) for x in spec)
-        if not (math.isfinite(start) and math.isfinite(stop)):
-            raise InputError("start and stop must be finite", path)
-        if not (n >= 1 and n == int(n)):
-            raise InputError(f"n must be a whole number ≥ 1, got {n:g}", path)
-        most = systems()["limits"]["max_sweep_cells"]
-        if n > most:
-            raise InputError(f"{n:g} values exceed the limit of {most} cells per sweep "
-                             "(max_sweep_cells)", path)
-        if log and not (start > 0 and stop > 0):
-            raise InputError("a logarithmic axis needs start and stop above 0, got "
-                             f"{start:g} and {stop:g}", path)
-        n = int(n)
-        a, b = (math.log(start), math.log(stop)) if log else (start, stop)
-        values = []
-        for i in range(n):
-            if i == 0:
-                values.append(start)
-            elif i == n - 1:
-                values.append(stop)
-            else:
-                x = a + (b - a) * (i / (n - 1))
-                values.append(float(f"{math.exp(x) if log else x:.14e}"))
-        return values
-    raise InputError("an axis has values, linspace or logspace", f"axes[{k}]")
+    """An axis's values as the core computes them for `POST /sweep`, checks included."""
+    try:
+        return _nhlab.axis_values(_json.dumps(axis, allow_nan=False), k)
+    except ValueError as e:
+        message, path = e.args if len(e.args) == 2 else (str(e), f"axes[{k}]")
+        raise InputError(message, path) from None
 
 
 def _own_values(own, axes, head, rows):

@@ -186,10 +186,10 @@ def warn_unless_symmetric(registered, scene, call):
     `call` posts a request and returns the parsed answer."""
     out = []
     declared = registered.symmetric()
-    if not declared:
-        return out
     probe = {k: scene[k] for k in ("system", "params", "q", "v", "step") if k in scene}
     probe["t_end"] = 4 * float(scene["step"])
+    system = scene.get("system")
+    where = system if isinstance(system, str) else "the system"
     handles = list(declared)
     for first in range(0, len(handles), 8):  # within any server's max_methods
         batch = handles[first:first + 8]
@@ -197,33 +197,31 @@ def warn_unless_symmetric(registered, scene, call):
             card = call("/scorecard", {"methods": [{"id": "python", "handle": h} for h in batch],
                                        "scenes": [probe], "points": 4})
         except Exception as e:  # noqa: BLE001 - the runs are done; say so, do not lose them
-            text = (f"the symmetry of {', '.join(declared[h].label() for h in batch)} could "
-                    f"not be checked: {e}")
-            warnings.warn(text, stacklevel=3)
-            out.append(text)
+            out.append(f"the symmetry of {', '.join(declared[h].label() for h in batch)} "
+                       f"could not be checked: {e}")
+            warnings.warn(out[-1], stacklevel=3)
             continue
-        for h in batch:
-            m = declared[h]
-            props = _properties(card, h)
-            if props is None or props.get("symmetric") is not False:
-                continue
-            params = ", ".join(f"{k} = {x:g}" for k, x in m.params().items())
-            name = f"{m.label()} ({params})" if params else m.label()
-            defect = props.get("symmetry_defect")
-            system = scene.get("system")
-            text = (f"{name} declares itself symmetric but is not: one step h then one step −h "
-                    "misses the start" + (f" by {defect:.3e}" if defect is not None else "")
-                    + f" on {system if isinstance(system, str) else 'the system'}; its "
-                    "compositions do not raise its order")
-            if text not in out:
-                warnings.warn(text, stacklevel=3)
-                out.append(text)
+        out += [w for w in card_warnings(registered, card, where, stacklevel=4) if w not in out]
     return out
 
 
-def _properties(card, handle):
-    for entry in card.get("properties", []):
-        method = entry.get("method", {})
-        if method.get("id") == "python" and int(method.get("handle", -1)) == handle:
-            return entry
-    return None
+def card_warnings(registered, card, where=None, stacklevel=3):
+    """The warnings of a scorecard answer `card`: each method of `registered` that declares
+    itself symmetric and was measured not to be, on `where` (else the scene's id); each
+    also issued with `warnings.warn`."""
+    out = []
+    for p in card.get("properties", []):
+        m = p.get("method", {})
+        method = registered.methods.get(int(m["handle"])) if m.get("id") == "python" else None
+        if method is None or not method.symmetric or p.get("symmetric") is not False:
+            continue
+        params = ", ".join(f"{k} = {x:g}" for k, x in method.params().items())
+        name = f"{method.label()} ({params})" if params else method.label()
+        defect = p.get("symmetry_defect")
+        text = (f"{name} declares itself symmetric but is not: one step h then one step −h "
+                "misses the start" + (f" by {defect:.3e}" if defect is not None else "")
+                + f" on {where or p['scene']}; its compositions do not raise its order")
+        if text not in out:
+            warnings.warn(text, stacklevel=stacklevel)
+            out.append(text)
+    return out

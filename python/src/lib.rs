@@ -206,6 +206,22 @@ fn check(py: Python<'_>, spec: &str) -> PyResult<String> {
     })
 }
 
+/// `axis_values(axis, k) -> values`: the values of axis `k` of a sweep (an `axes[k]` object
+/// as JSON text), checked and spaced as `POST /sweep` computes them; a bad axis raises
+/// `ValueError(message, path)`. What a sweep over a Python method's parameter spaces with.
+#[pyfunction]
+fn axis_values(axis: &str, k: usize) -> PyResult<Vec<f64>> {
+    let invalid =
+        |message: String, path: String| pyo3::exceptions::PyValueError::new_err((message, path));
+    let given: nhlab_server::request::AxisRequest =
+        serde_json::from_str(axis).map_err(|e| invalid(e.to_string(), format!("axes[{k}]")))?;
+    let max = Config::default().max_sweep_cells;
+    nhlab_server::sweep::Axis::check(k, &given, max).map(|a| a.values).map_err(|e| {
+        let path = e.path.unwrap_or_else(|| format!("axes[{k}]"));
+        invalid(e.message, path)
+    })
+}
+
 /// A spec's error as `ValueError(message, path)`; anything else as `RuntimeError`.
 fn py_error(e: shards::ShardError) -> PyErr {
     match e {
@@ -222,6 +238,7 @@ fn _nhlab(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(request, m)?)?;
     m.add_function(wrap_pyfunction!(shard, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(axis_values, m)?)?;
     m.add_function(wrap_pyfunction!(method::register, m)?)?;
     m.add_function(wrap_pyfunction!(method::unregister, m)?)?;
     m.add_class::<method::PySystem>()?;

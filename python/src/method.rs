@@ -129,13 +129,30 @@ fn floats(x: &Bound<'_, PyAny>, n: usize, what: &str) -> PyResult<Vec<f64>> {
     Ok(array.as_array().iter().copied().collect())
 }
 
-fn matrix<'py>(
+/// A numpy array of `shape` (a vector or a matrix, row by row) that `fill` writes.
+fn array<'py>(
     py: Python<'py>,
-    rows: usize,
-    cols: usize,
-    data: Vec<f64>,
+    shape: &[usize],
+    fill: impl FnOnce(&mut [f64]),
 ) -> PyResult<Bound<'py, PyAny>> {
-    Ok(PyArray1::from_vec(py, data).reshape([rows, cols])?.into_any())
+    let mut out = vec![0.0; shape.iter().product()];
+    fill(&mut out);
+    let flat = PyArray1::from_vec(py, out);
+    Ok(match *shape {
+        [rows, cols] => flat.reshape([rows, cols])?.into_any(),
+        _ => flat.into_any(),
+    })
+}
+
+/// [`array`] for a `fill` that solves with `A M⁻¹ Aᵀ`, false where it is singular.
+fn solved<'py>(
+    py: Python<'py>,
+    shape: &[usize],
+    fill: impl FnOnce(&mut [f64]) -> bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mut regular = false;
+    let out = array(py, shape, |out| regular = fill(out))?;
+    if regular { Ok(out) } else { Err(PyValueError::new_err("A M⁻¹ Aᵀ is singular at q")) }
 }
 
 /// The system a method's step sees (`docs/own-methods.md`): M, V, A and their derivatives
@@ -144,6 +161,7 @@ fn matrix<'py>(
 pub struct PySystem;
 
 #[pymethods]
+#[allow(non_snake_case, reason = "the mathematics' names: M, V, A, U")]
 impl PySystem {
     /// Coordinates N.
     #[getter]
@@ -166,62 +184,40 @@ impl PySystem {
         with_system(|s| class(s).map(|_| s.sizes().0 - 1))
     }
     /// The mass matrix M.
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn M<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        with_system(|s| {
-            let n = s.sizes().0;
-            let mut out = vec![0.0; n * n];
-            s.mass(&mut out);
-            matrix(py, n, n, out)
-        })
+        with_system(|s| array(py, &[s.sizes().0; 2], |out| s.mass(out)))
     }
     /// M⁻¹.
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn M_inv<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        with_system(|s| {
-            let n = s.sizes().0;
-            let mut out = vec![0.0; n * n];
-            s.mass_inverse(&mut out);
-            matrix(py, n, n, out)
-        })
+        with_system(|s| array(py, &[s.sizes().0; 2], |out| s.mass_inverse(out)))
     }
     /// V(q).
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn V(&self, q: &Bound<'_, PyAny>) -> PyResult<f64> {
         with_system(|s| Ok(s.potential(&floats(q, s.sizes().0, "q")?)))
     }
     /// ∇V(q).
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn grad_V<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         with_system(|s| {
             let q = floats(q, s.sizes().0, "q")?;
-            let mut out = vec![0.0; q.len()];
-            s.gradient(&q, &mut out);
-            Ok(PyArray1::from_vec(py, out).into_any())
+            array(py, &[q.len()], |out| s.gradient(&q, out))
         })
     }
     /// ∇²V(q).
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn hess_V<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         with_system(|s| {
-            let n = s.sizes().0;
-            let mut out = vec![0.0; n * n];
-            s.hessian(&floats(q, n, "q")?, &mut out);
-            matrix(py, n, n, out)
+            let q = floats(q, s.sizes().0, "q")?;
+            array(py, &[q.len(); 2], |out| s.hessian(&q, out))
         })
     }
     /// A(q), R×N.
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn A<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         with_system(|s| {
             let (n, r) = s.sizes();
-            let mut out = vec![0.0; r * n];
-            s.constraint(&floats(q, n, "q")?, &mut out);
-            matrix(py, r, n, out)
+            let q = floats(q, n, "q")?;
+            array(py, &[r, n], |out| s.constraint(&q, out))
         })
     }
     /// ∂(A(q) v)/∂q, R×N: its product with w is the derivative of A(q)v along w.
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn jac_Av<'py>(
         &self,
         py: Python<'py>,
@@ -230,13 +226,11 @@ impl PySystem {
     ) -> PyResult<Bound<'py, PyAny>> {
         with_system(|s| {
             let (n, r) = s.sizes();
-            let mut out = vec![0.0; r * n];
-            s.constraint_jacobian(&floats(q, n, "q")?, &floats(v, n, "v")?, &mut out);
-            matrix(py, r, n, out)
+            let (q, v) = (floats(q, n, "q")?, floats(v, n, "v")?);
+            array(py, &[r, n], |out| s.constraint_jacobian(&q, &v, out))
         })
     }
     /// The derivative of A(q) v along w: (∂(A(q) v)/∂q) w, R.
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn dA<'py>(
         &self,
         py: Python<'py>,
@@ -246,11 +240,14 @@ impl PySystem {
     ) -> PyResult<Bound<'py, PyAny>> {
         with_system(|s| {
             let (n, r) = s.sizes();
+            let (q, v, w) = (floats(q, n, "q")?, floats(v, n, "v")?, floats(w, n, "w")?);
             let mut jac = vec![0.0; r * n];
-            s.constraint_jacobian(&floats(q, n, "q")?, &floats(v, n, "v")?, &mut jac);
-            let w = floats(w, n, "w")?;
-            let out = jac.chunks(n).map(|row| row.iter().zip(&w).map(|(a, b)| a * b).sum::<f64>());
-            Ok(PyArray1::from_vec(py, out.collect()).into_any())
+            s.constraint_jacobian(&q, &v, &mut jac);
+            array(py, &[r], |out| {
+                for (slot, row) in out.iter_mut().zip(jac.chunks(n)) {
+                    *slot = row.iter().zip(&w).map(|(a, b)| a * b).sum();
+                }
+            })
         })
     }
     /// H(q, q̇) = ½ q̇ᵀM q̇ + V(q).
@@ -269,11 +266,8 @@ impl PySystem {
     ) -> PyResult<Bound<'py, PyAny>> {
         with_system(|s| {
             let n = s.sizes().0;
-            let mut out = vec![0.0; n];
-            if !s.project(&floats(q, n, "q")?, &floats(v, n, "v")?, &mut out) {
-                return Err(PyValueError::new_err("A M⁻¹ Aᵀ is singular at q"));
-            }
-            Ok(PyArray1::from_vec(py, out).into_any())
+            let (q, v) = (floats(q, n, "q")?, floats(v, n, "v")?);
+            solved(py, &[n], |out| s.project(&q, &v, out))
         })
     }
     /// The continuous multiplier λ at (q, q̇), R: what every run's state starts with.
@@ -285,30 +279,22 @@ impl PySystem {
     ) -> PyResult<Bound<'py, PyAny>> {
         with_system(|s| {
             let (n, r) = s.sizes();
-            let mut out = vec![0.0; r];
-            if !s.multiplier(&floats(q, n, "q")?, &floats(v, n, "v")?, &mut out) {
-                return Err(PyValueError::new_err("A M⁻¹ Aᵀ is singular at q"));
-            }
-            Ok(PyArray1::from_vec(py, out).into_any())
+            let (q, v) = (floats(q, n, "q")?, floats(v, n, "v")?);
+            solved(py, &[r], |out| s.multiplier(&q, &v, out))
         })
     }
     /// U(x), the passenger's potential (q given whole; the paper's class).
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn U(&self, q: &Bound<'_, PyAny>) -> PyResult<f64> {
         with_system(|s| Ok(class(s)?.passenger_potential(&floats(q, s.sizes().0, "q")?)))
     }
     /// ∇U (zero ζ component; the paper's class).
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn grad_U<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         with_system(|s| {
-            let q = floats(q, s.sizes().0, "q")?;
-            let mut out = vec![0.0; q.len()];
-            class(s)?.passenger_gradient(&q, &mut out);
-            Ok(PyArray1::from_vec(py, out).into_any())
+            let (pieces, q) = (class(s)?, floats(q, s.sizes().0, "q")?);
+            array(py, &[q.len()], |out| pieces.passenger_gradient(&q, out))
         })
     }
     /// V_d(ζ) and its first two derivatives, a tuple (the paper's class).
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn V_d(&self, zeta: f64) -> PyResult<(f64, f64, f64)> {
         with_system(|s| {
             let [v, d1, d2] = class(s)?.driver_potential(zeta);
@@ -316,23 +302,17 @@ impl PySystem {
         })
     }
     /// A(ζ), R×N with a zero ζ column (the paper's class).
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn A_x<'py>(&self, py: Python<'py>, zeta: f64) -> PyResult<Bound<'py, PyAny>> {
         with_system(|s| {
-            let (n, r) = s.sizes();
-            let mut out = vec![0.0; r * n];
-            class(s)?.constraint_at(zeta, &mut out);
-            matrix(py, r, n, out)
+            let ((n, r), pieces) = (s.sizes(), class(s)?);
+            array(py, &[r, n], |out| pieces.constraint_at(zeta, out))
         })
     }
     /// dA/dζ, R×N (the paper's class).
-    #[allow(non_snake_case, reason = "the mathematics' names")]
     fn dA_x<'py>(&self, py: Python<'py>, zeta: f64) -> PyResult<Bound<'py, PyAny>> {
         with_system(|s| {
-            let (n, r) = s.sizes();
-            let mut out = vec![0.0; r * n];
-            class(s)?.constraint_d(zeta, &mut out);
-            matrix(py, r, n, out)
+            let ((n, r), pieces) = (s.sizes(), class(s)?);
+            array(py, &[r, n], |out| pieces.constraint_d(zeta, out))
         })
     }
     /// Newton's method on `residual(x) = 0` with its `jacobian(x)` from `x0`
