@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draws the page's preset maps as SVG pictures for docs/maps.md.
 
-Each preset of web/src/map-presets.json (the page's Map view offers the same) is computed
+Each preset of web/src/map/presets.json (the page's Map view offers the same) is computed
 with `nhlab sweep` (no server; every core) and drawn as one heat map per method: the verdict
 of the preset's integral in each cell, x = the last axis, y = the first, a letter per cell so
 that the picture reads without colour. Only the standard library is needed.
@@ -105,7 +105,7 @@ def draw(answer, integral, title):
 def main():
     nhlab, out_dir = sys.argv[1], sys.argv[2]
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    with open(os.path.join(root, "web", "src", "map-presets.json")) as f:
+    with open(os.path.join(root, "web", "src", "map", "presets.json")) as f:
         presets = json.load(f)
     for preset in presets:
         spec = dict(preset["scene"], axes=preset["axes"])

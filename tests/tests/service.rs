@@ -241,7 +241,7 @@ async fn no_file_outside_the_embedded_page_is_served() {
         "//etc/passwd",
         "/../../../../../../etc/passwd",
         "/%2e%2e%2f%2e%2e%2f%2e%2e%2f%2e%2e%2f%2e%2e%2fetc%2fpasswd",
-        "/src/api.js",
+        "/src/data/api.js",
         "/build.rs",
         "/web/dist/index.html",
     ] {

@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { curveText, lastValue, plotSummary, sci } from '../src/alttext.js';
+import { curveText, lastValue, plotSummary, sci } from '../src/draw/alttext.js';
 
 test('the text alternative of a plot gives each curve its last error and verdict', () => {
   assert.equal(lastValue([1, 2, null, NaN]), 2);

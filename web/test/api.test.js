@@ -1,6 +1,6 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { ApiError, retrying } from '../src/api.js';
+import { ApiError, retrying } from '../src/data/api.js';
 
 test('retrying waits out 503s and returns the first answer', async () => {
   let calls = 0;

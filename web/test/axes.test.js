@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { DIVERGED, clipRange, compactTick, extent, unionExtent } from '../src/axes.js';
+import { DIVERGED, clipRange, compactTick, extent, unionExtent } from '../src/draw/axes.js';
 
 test('time ticks stay short on a long axis', () => {
   assert.deepEqual([0, 5e5, 1e6, 1.5e6, 2e6, 3e6].map(compactTick), ['0', '5e5', '1e6', '1.5e6', '2e6', '3e6']);
@@ -38,7 +38,7 @@ test('a diverged run is left out of the y-range, and named', () => {
 });
 
 test('log axes: whole decades, the floor kept visible, powers of ten as labels', async () => {
-  const { decades, logRange, power } = await import('../src/axes.js');
+  const { decades, logRange, power } = await import('../src/draw/axes.js');
   const near = (a, b) => a.length === b.length && a.every((x, i) => Math.abs(x / b[i] - 1) < 1e-12);
   assert.ok(near(logRange(2e-5, 3e-2, false), [1e-5, 1e-1]));
   assert.ok(near(logRange(1e-16, 1e-3, true), [1e-17, 1e-3]), 'a decade under the floor line');

@@ -13,8 +13,8 @@ import {
   panelTitles,
   presetLabel,
   systemShortName,
-} from '../src/catalog.js';
-import { defaultState } from '../src/state.js';
+} from '../src/data/catalog.js';
+import { defaultState } from '../src/data/state.js';
 
 // GET /systems as the server answers it.
 const catalog = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
@@ -128,7 +128,7 @@ test('the page sources name no system and no method', async () => {
   ];
   // An instrument's id (`reference`) is an English word too: only as a quoted literal.
   const instruments = catalog.methods.filter((m) => m.instrument).map((m) => m.id);
-  for (const file of readdirSync(dir).filter((f) => /\.(js|html|css)$/.test(f))) {
+  for (const file of readdirSync(dir, { recursive: true }).filter((f) => /\.(js|html|css)$/.test(f))) {
     const text = readFileSync(new URL(file, dir), 'utf8');
     for (const name of names) {
       assert.doesNotMatch(text, new RegExp(`(?<![\\w^])${escape(name)}(?![\\w^])`), `${file} names "${name}"`);
@@ -153,7 +153,7 @@ test("a system offers the methods that apply to it and says whether it is in the
 });
 
 test('compositions are offered where the method as configured is symmetric, with its order', async () => {
-  const { composableAt } = await import('../src/catalog.js');
+  const { composableAt } = await import('../src/data/catalog.js');
   const dla = catalog.methods.find((m) => m.symmetric_at);
   assert.ok(dla, 'a method symmetric at one parameter value');
   const { param, value, order_elsewhere: elsewhere } = dla.symmetric_at;

@@ -1,10 +1,10 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
-import { customFrom, customIntegrals, isCustom, sceneCaption, systemName } from '../src/custom.js';
-import { customFromFields } from '../src/customfields.js';
-import { workPrecisionBody } from '../src/precision.js';
-import { decodeState, defaultCustomState, defaultState, encodeState, requestBody } from '../src/state.js';
+import { customFrom, customIntegrals, isCustom, sceneCaption, systemName } from '../src/data/custom.js';
+import { customFromFields } from '../src/data/customfields.js';
+import { workPrecisionBody } from '../src/workprecision/precision.js';
+import { decodeState, defaultCustomState, defaultState, encodeState, requestBody } from '../src/data/state.js';
 
 const catalog = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
 const [first] = catalog.systems;

@@ -1,9 +1,9 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { defaultPicks, dynamicsSystem, finiteExtent, niceTicks, observablesFor, paddedRange, sectionFor, xyCSV, xyColumns } from '../src/dynamics.js';
-import { Result } from '../src/result.js';
-import { SvgContext } from '../src/svgcanvas.js';
-import { layout, sparse } from '../src/xyplot.js';
+import { defaultPicks, dynamicsSystem, finiteExtent, niceTicks, observablesFor, paddedRange, sectionFor, xyCSV, xyColumns } from '../src/data/dynamics.js';
+import { Result } from '../src/data/result.js';
+import { SvgContext } from '../src/draw/svgcanvas.js';
+import { layout, sparse } from '../src/draw/xyplot.js';
 
 const catalog = {
   methods: [],

@@ -1,11 +1,11 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
-import { coordinateNames, customFrom, customIntegrals, defaultCustomIntegrals, formOf, inForm, isGeneral, massMode, startingPoints, toGeneral } from '../src/custom.js';
-import { customFromFields } from '../src/customfields.js';
-import { decodeCustom, encodeCustom } from '../src/customurl.js';
-import { decodeState, defaultState, encodeState, requestBody } from '../src/state.js';
-import { customized, presetSwitched, sceneOpened, startedFrom, systemSwitched } from '../src/transitions.js';
+import { coordinateNames, customFrom, customIntegrals, defaultCustomIntegrals, formOf, inForm, isGeneral, massMode, startingPoints, toGeneral } from '../src/data/custom.js';
+import { customFromFields } from '../src/data/customfields.js';
+import { decodeCustom, encodeCustom } from '../src/data/customurl.js';
+import { decodeState, defaultState, encodeState, requestBody } from '../src/data/state.js';
+import { customized, presetSwitched, sceneOpened, startedFrom, systemSwitched } from '../src/explore/transitions.js';
 
 // GET /systems as the server answers it: the paper's systems and the literature's beside them.
 const catalog = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));

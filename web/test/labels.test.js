@@ -1,8 +1,8 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
-import { fieldLabel, humanLabel } from '../src/labels.js';
-import { sceneCaption, sceneStem, systemSlug } from '../src/custom.js';
+import { fieldLabel, humanLabel } from '../src/data/labels.js';
+import { sceneCaption, sceneStem, systemSlug } from '../src/data/custom.js';
 
 const catalog = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
 
@@ -51,7 +51,7 @@ test('a system in a file name: a built-in by its id, a custom one by its name', 
 });
 
 test('a swept method is named by what is swept, not by the value it was listed with', async () => {
-  const { sweptLabel, fieldLabel } = await import('../src/labels.js');
+  const { sweptLabel, fieldLabel } = await import('../src/data/labels.js');
   assert.equal(sweptLabel('M^0.5', ['methods.alpha', 'params.epsilon'], 0), 'M (α swept)');
   assert.equal(sweptLabel('M^0.5', ['methods[1].alpha'], 0), 'M⁰·⁵', 'the axis sets another method');
   assert.equal(sweptLabel('M^0.5', ['methods[1].alpha'], 1), 'M (α swept)');

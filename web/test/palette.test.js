@@ -1,9 +1,10 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
-import { MARKERS, addMarker, methodStyle, svgPen } from '../src/palette.js';
-import { humanLabel } from '../src/labels.js';
-import { runVerdicts } from '../src/verdicts.js';
+import { MARKERS, addMarker, methodStyle } from '../src/draw/palette.js';
+import { SvgContext } from '../src/draw/svgcanvas.js';
+import { humanLabel } from '../src/data/labels.js';
+import { runVerdicts } from '../src/data/verdicts.js';
 
 // GET /systems as the server answers it, with compositions as the server lists them.
 const fixture = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
@@ -81,9 +82,11 @@ test('a method missing from the catalog still gets a stable look', () => {
 
 test('every marker draws a closed outline or strokes', () => {
   for (const m of MARKERS) {
-    const pen = svgPen();
-    addMarker(pen, m, 10, 10, 4);
-    assert.match(pen.d, /^M[\d.]+ [\d.]+/, m);
+    const ctx = new SvgContext(20, 20);
+    ctx.beginPath();
+    addMarker(ctx, m, 10, 10, 4);
+    ctx.stroke();
+    assert.match(ctx.toString(), /<path d="M[\d.]+ [\d.]+/, m);
   }
 });
 

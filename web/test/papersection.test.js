@@ -1,7 +1,7 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
-import { sectionRequest, verdictSentence } from '../src/papersection.js';
+import { sectionRequest, verdictSentence } from '../src/paper/section.js';
 
 const catalog = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
 

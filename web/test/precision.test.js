@@ -1,7 +1,7 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { ORIENTS, curves, decodeSettings, distinctX, fitSlope, formatOrder, plottable, readSettings, workPrecisionBody, workPrecisionQuery } from '../src/precision.js';
-import { defaultState } from '../src/state.js';
+import { ORIENTS, curves, decodeSettings, distinctX, fitSlope, formatOrder, plottable, readSettings, workPrecisionBody, workPrecisionQuery } from '../src/workprecision/precision.js';
+import { defaultState } from '../src/data/state.js';
 
 const catalog = {
   systems: [

@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { Result } from '../src/result.js';
+import { Result } from '../src/data/result.js';
 
 const scene = {
   system: 'knife_edge',

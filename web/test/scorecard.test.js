@@ -1,7 +1,7 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
-import { sceneTitles, systemGroups } from '../src/scorecard.js';
+import { sceneTitles, systemGroups } from '../src/scorecard/view.js';
 
 const catalog = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
 

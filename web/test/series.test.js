@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { FLOOR, clampFloor, displaySeries, runningMean } from '../src/series.js';
+import { FLOOR, clampFloor, displaySeries, runningMean } from '../src/data/series.js';
 
 test('running mean of a constant is the constant', () => {
   const t = [1, 2, 3, 4, 5];

@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { decodeState, defaultState, encodeState, requestBody } from '../src/state.js';
+import { decodeState, defaultState, encodeState, requestBody } from '../src/data/state.js';
 
 const catalog = {
   systems: [
@@ -141,7 +141,7 @@ test('a composition travels in the link and the request body', () => {
 
 test('an empty Step field survives the URL as empty, not as 0', async () => {
   const { readFileSync } = await import('node:fs');
-  const { decodeState: decode, defaultState: initial, encodeState: encode } = await import('../src/state.js');
+  const { decodeState: decode, defaultState: initial, encodeState: encode } = await import('../src/data/state.js');
   const catalog = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
   const state = initial(catalog, 'knife_edge', 'paper');
   state.step = null;

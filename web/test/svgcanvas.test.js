@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { SvgContext } from '../src/svgcanvas.js';
+import { SvgContext } from '../src/draw/svgcanvas.js';
 
 test('canvas drawing calls become SVG elements, in order', () => {
   const ctx = new SvgContext(200, 100);

@@ -1,7 +1,7 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
-import { defaultState } from '../src/state.js';
+import { defaultState } from '../src/data/state.js';
 import {
   axisPaths,
   cellAtXY,
@@ -17,11 +17,11 @@ import {
   mapQuery,
   presetSetup,
   sweepBody,
-} from '../src/sweep.js';
+} from '../src/map/sweep.js';
 
 // GET /systems as the server answers it, and the Map view's presets.
 const catalog = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
-const presets = JSON.parse(readFileSync(new URL('../src/map-presets.json', import.meta.url), 'utf8'));
+const presets = JSON.parse(readFileSync(new URL('../src/map/presets.json', import.meta.url), 'utf8'));
 
 const close = (a, b) => a.length === b.length && a.every((x, i) => Math.abs(x - b[i]) <= 1e-12 * Math.max(1, Math.abs(b[i])));
 

@@ -1,8 +1,8 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { SweepResult, cellLines, cellState, fmt, sweepFromJSON, writtenInPython } from '../src/sweepresult.js';
-import { cellColor, decadeRange, KIND_COLORS, logError, tickStep, viridis } from '../src/heatmap.js';
-import { powerOfTen } from '../src/axes.js';
+import { SweepResult, cellLines, cellState, fmt, sweepFromJSON, writtenInPython } from '../src/map/sweepresult.js';
+import { cellColor, decadeRange, KIND_COLORS, logError, tickStep, viridis } from '../src/map/heatmap.js';
+import { powerOfTen } from '../src/draw/axes.js';
 
 const start = {
   axes: [

@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { timing } from '../src/timing.js';
+import { timing } from '../src/data/timing.js';
 
 test('the speed is per second of CPU time, both times in the title', () => {
   const t = timing({ steps: 30000, elapsed_ms: 53, cpu_ms: 3.75 });
@@ -22,7 +22,7 @@ test('a running run shows a dash; a run of no steps shows only its time', () => 
 });
 
 test('a running run shows its time so far and the time left; a cancelled one keeps its time', async () => {
-  const { clock, eta, progressNote, runsLeft } = await import('../src/timing.js');
+  const { clock, eta, progressNote, runsLeft } = await import('../src/data/timing.js');
   assert.equal(eta(10_000, 0.25), 30_000);
   assert.equal(eta(10_000, 0), null, 'no estimate without progress');
   assert.equal(eta(100, 0.5), null, 'no estimate in the first half second');

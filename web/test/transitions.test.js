@@ -1,10 +1,10 @@
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
-import { defaultWindow } from '../src/catalog.js';
-import { isCustom } from '../src/custom.js';
-import { defaultState } from '../src/state.js';
-import { customized, experiment, presetSwitched, sceneOpened, startedFrom, systemSwitched } from '../src/transitions.js';
+import { defaultWindow } from '../src/data/catalog.js';
+import { isCustom } from '../src/data/custom.js';
+import { defaultState } from '../src/data/state.js';
+import { customized, experiment, presetSwitched, sceneOpened, startedFrom, systemSwitched } from '../src/explore/transitions.js';
 
 const catalog = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
 const methods = [{ id: 'leapfrog', params: {} }, { id: 'dla', params: { alpha: 0.4 } }];

@@ -1,6 +1,6 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { MARKS, PROPERTIES, consumed, propertyMark, runVerdicts, systemsOf, verdictTitle } from '../src/verdicts.js';
+import { MARKS, PROPERTIES, consumed, propertyMark, runVerdicts, systemsOf, verdictTitle } from '../src/data/verdicts.js';
 
 const methods = [{ id: 'dd', label: 'DD' }, { id: 'leapfrog', label: 'LF' }];
 const prop = (method, system, scene, reversible, fibration) => ({

@@ -42,6 +42,8 @@ pub(crate) async fn plot_export(
     assert_eq!(svg["name"], "nhlab-knife_edge-paper-energy.svg", "{downloads}");
     assert!(svg["text"].as_str().unwrap_or("").starts_with("<svg"), "{downloads}");
     assert!(svg["paths"].as_u64().unwrap_or(0) >= 5, "a path per curve: {downloads}");
+    // The error axis's labels, as uPlot chose them (recorded through its axis options).
+    assert!(svg["decades"].as_u64().unwrap_or(0) >= 2, "the y ticks' labels: {downloads}");
     let files = js(client, "return window.__downloads.map((d) => [d.name, d.bytes]);").await?;
     for file in files.as_array().into_iter().flatten() {
         save(file[0].as_str().unwrap_or("export"), &file[1]);
@@ -143,6 +145,7 @@ HTMLAnchorElement.prototype.click = function () {
       d.paths = (text.match(/<path/g) ?? []).length;
       d.rects = (text.match(/<rect/g) ?? []).length;
       d.letters = (text.match(/>[EBD]<\/text>/g) ?? []).length;
+      d.decades = (text.match(/>10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+<\/text>/g) ?? []).length;
     }
     d.size = b.byteLength;
   });

@@ -63,7 +63,10 @@
 //!     those steps, a 0 in it refused at its field; Cancel stops a long request.
 //! 14. the Trajectory and Section panels draw the rotating, perturbed CVT's phase portrait
 //!     and Poincaré section (x1, x2) with a series per method, a legend in the error plot's
-//!     colours and markers, and the section exports as PNG and SVG (`dynamics.png`).
+//!     colours and markers, and the section exports as PNG and SVG (`dynamics.png`);
+//! 15. the page's second pass at 400 and 1400 px (second_pass.rs): a refused field in view
+//!     and focused, stale results, the skip link, the Scorecard's keyboard grid, compositions
+//!     offered as configured, and the status's time left being the slowest run's.
 //!
 //! Chromium and chromedriver are required, not optional: without them the test fails and
 //! says how to install them. `NHLAB_CHROMIUM` / `NHLAB_CHROMEDRIVER` override their paths.

@@ -4,7 +4,8 @@
 //! Run; after a run the focus is on the results, not lost; the Scorecard's verdicts are one
 //! Tab stop with arrow keys inside, its method column stays while the scenes scroll, and a
 //! line says more scenes follow where they do. A method offers compositions only where it is
-//! symmetric as configured (DLA^α at α = 0.5), with the order it reaches.
+//! symmetric as configured (DLA^α at α = 0.5), with the order it reaches. While two runs go at
+//! different paces, the status's time left is the slowest run's, as the runs table gives it.
 
 use crate::driver::Driver;
 use crate::explore::console_clean;
@@ -56,6 +57,7 @@ pub(crate) async fn second_pass(
         refused_field(client, base, width).await?;
         keyboard(client, base, width).await?;
         scorecard(client, base, width).await?;
+        time_left(client, base, width).await?;
     }
     client.set_window_size(1440, 1500).await.map_err(|e| e.to_string())?;
     // The refused requests' 422s are in the log by design.
@@ -96,6 +98,44 @@ async fn refused_field(client: &Client, base: &str, width: u32) -> Result<(), St
     let fresh = js(client, AFTER_ERROR).await?;
     assert_eq!((&fresh["stale"], &fresh["note"]), (&Value::Bool(false), &Value::Bool(false)));
     println!("{width} px: a refused t_end has the focus, in view; the old results stale, then not");
+    Ok(())
+}
+
+/// Both runs' times left, as the runs table and the status line give them in one frame.
+const TIME_LEFT: &str = r#"
+const ms = (t) => [...t.matchAll(/(\d+) (ms|s|min|h)\b/g)].reduce((sum, [, n, unit]) => sum + Number(n) * { ms: 1, s: 1e3, min: 6e4, h: 3.6e6 }[unit], 0);
+const status = document.getElementById('status').textContent;
+const overall = /about (.+?) left/.exec(status);
+const cells = [...document.querySelectorAll('#runs tr.run')].map((tr) => tr.querySelectorAll('td.num')[1]?.textContent ?? '');
+const runs = cells.map((c) => /~(.+?) left/.exec(c)).filter(Boolean);
+if (!overall || runs.length < 2) return null;
+return { status, cells, overall: ms(overall[1]), runs: runs.map((r) => ms(r[1])) };
+"#;
+
+/// Two runs at different paces: the status's estimate is the slower run's, not an average.
+async fn time_left(client: &Client, base: &str, width: u32) -> Result<(), String> {
+    let link = format!(
+        "{base}?system=knife_edge&preset=paper&t_end=10000000&methods=dla01,dd&integrals=energy&run=1"
+    );
+    client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
+    let seen = poll(client, TIME_LEFT, Duration::from_secs(30)).await.map_err(|e| {
+        format!("{width} px: no estimate of the time left for two running runs: {e}")
+    })?;
+    let runs: Vec<f64> =
+        seen["runs"].as_array().into_iter().flatten().filter_map(Value::as_f64).collect();
+    let slowest = runs.iter().copied().fold(0.0, f64::max);
+    assert_eq!(
+        seen["overall"].as_f64(),
+        Some(slowest),
+        "the status gives the slowest run's: {seen}"
+    );
+    click(client, "#cancel").await?;
+    let (state, text) = wait_for_status(client).await?;
+    assert_eq!(state, "cancelled", "{width} px: {text}");
+    println!(
+        "{width} px: the status's time left, {} ms, is the slowest of {runs:?}",
+        seen["overall"]
+    );
     Ok(())
 }
 
