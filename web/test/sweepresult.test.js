@@ -1,8 +1,9 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
-import { SweepResult, cellLines, cellState, fmt, sweepFromJSON, writtenInPython } from '../src/map/sweepresult.js';
+import { SweepResult, cellLines, cellState, fmt, sweepFromCSV, sweepFromJSON, writtenInPython } from '../src/map/sweepresult.js';
 import { cellColor, decadeRange, KIND_COLORS, logError, tickStep, viridis } from '../src/map/heatmap.js';
 import { powerOfTen } from '../src/draw/axes.js';
+import { csvField, parseCSV } from '../src/data/csv.js';
 
 const start = {
   axes: [
@@ -19,11 +20,13 @@ const verdict = (kind, max) => ({ kind, max, early: max / 2, late: max / 3, rati
 
 function row(cell, method_index, status = 'ok') {
   const values = [start.axes[0].values[Math.floor(cell / 3)], start.axes[1].values[cell % 3]];
+  const method = method_index === 0 ? { id: 'm', alpha: values[0], label: `M^${values[0]}` } : start.methods[1];
+  const { label, ...run } = method;
   return {
     cell,
     values,
     method_index,
-    method: method_index === 0 ? { id: 'm', alpha: values[0], label: `M^${values[0]}` } : start.methods[1],
+    method,
     status,
     error: status === 'failed' ? 'step 12 at t = 1.2: Newton did not converge' : status === 'invalid' ? 'v: not tangent, "quoted"' : null,
     steps: status === 'invalid' ? 0 : 3000,
@@ -31,7 +34,7 @@ function row(cell, method_index, status = 'ok') {
     newton_iterations: method_index === 0 && status !== 'invalid' ? 6012 : null,
     verdicts: status === 'ok' ? { energy: verdict(cell % 2 ? 'drift' : 'bounded', 1e-3 * (cell + 1)), constraint: verdict('exact', 0) } : {},
     gaps: cell === 0 && method_index === 0 ? { energy: { since: 72016.9, reason: 'passenger_at_rest', message: '…' } } : {},
-    simulate: { system: 's', preset: 'p', params: { epsilon: values[1] }, methods: [{ id: 'm', alpha: values[0] }], points: 1000 },
+    simulate: { system: 's', preset: 'p', params: { epsilon: values[1] }, methods: [run], points: 1000 },
   };
 }
 
@@ -151,4 +154,87 @@ test('a sweep saved as JSON opens as a finished result, and a bad file says what
   assert.throws(() => sweepFromJSON({ ...saved, cells: 7 }), /"cells" is 7, but the axes make 6/);
   assert.throws(() => sweepFromJSON({ ...saved, rows: [{ cell: 9, method_index: 0 }] }), /rows\[0\] needs a "cell" below 6/);
   assert.throws(() => sweepFromJSON({ ...saved, rows: [{ cell: 0, method_index: -1 }] }), /"method_index" below 2/);
+});
+
+test('a sweep saved as CSV by the page opens to the rows of its JSON', () => {
+  const saved = filled([3, 0, 5, 1, 4, 2]);
+  const json = saved.toJSON();
+  const opened = sweepFromCSV(saved.toCSV());
+  assert.deepEqual(opened.axes, json.axes, 'the axes from their columns, in cell order');
+  assert.deepEqual(opened.integrals, json.integrals);
+  assert.equal(opened.cells, 6);
+  assert.equal(opened.fraction, 1);
+  // Each method as its first row ran it: a CSV does not hold the methods as listed.
+  assert.deepEqual(opened.methods, [json.rows[0].method, json.rows[1].method]);
+  // Every row and verdict, but a gap's reason and message.
+  const sinceOnly = (r) => ({ ...r, gaps: Object.fromEntries(Object.entries(r.gaps).map(([i, g]) => [i, { since: g.since }])) });
+  assert.deepEqual(opened.rows(), json.rows.map(sinceOnly));
+  assert.equal(opened.criterion, '', 'no criterion in a CSV');
+  assert.equal(opened.toCSV(), saved.toCSV(), 'it saves the same CSV again');
+  assert.deepEqual(cellLines(opened, 4, 0, 'energy'), cellLines(saved, 4, 0, 'energy'));
+});
+
+// `POST /sweep`'s CSV answer as the server writes it (server/src/sweep/csv.rs): numbers as
+// JSON writes them, nulls empty, observables, the simulate body as quoted JSON.
+const SERVER_CSV = `cell,params.epsilon,step,method_index,method,status,error,steps,cpu_ms,newton_iterations,\
+energy.kind,energy.max,energy.early,energy.late,energy.ratio,energy.gap_since,\
+constraint.kind,constraint.max,constraint.early,constraint.late,constraint.ratio,\
+constraint.gap_since,observables.x,observables.speed,simulate
+0,0.0,0.02,0,DLA^0.4,ok,,15,0.8,30,bounded,0.0002,0.0001,0.0001,1.0,,exact,1e-15,1e-15,1e-15,1.0,,0.25,1.5,"{""methods"":[{""alpha"":0.4,""id"":""dla""}],""step"":0.02,""system"":""cvt""}"
+1,0.0,0.01,0,DLA^0.4,ok,,30,1.2,60,drift,0.0015,0.0001,0.001,10.0,,exact,0.0,0.0,0.0,,2.5,0.5,,"{""methods"":[{""alpha"":0.4,""id"":""dla""}],""step"":0.01,""system"":""cvt""}"
+2,0.5,0.02,0,DLA^0.4,failed,"step 7 at t = 0.06: diverged, ""too large""",6,,12,,,,,,,,,,,,,,,"{""methods"":[{""alpha"":0.4,""id"":""dla""}],""step"":0.02,""system"":""cvt""}"
+3,0.5,0.01,0,DLA^0.4,invalid,v: the initial velocity does not satisfy the constraints,0,,,,,,,,,,,,,,,,,"{""methods"":[{""alpha"":0.4,""id"":""dla""}],""step"":0.01,""system"":""cvt""}"
+`;
+
+test("the server's CSV answer opens: axes, method, integrals, observables and verdicts", () => {
+  const r = sweepFromCSV(SERVER_CSV);
+  assert.deepEqual(r.axes, [{ path: 'params.epsilon', values: [0, 0.5] }, { path: 'step', values: [0.02, 0.01] }]);
+  assert.deepEqual(r.methods, [{ alpha: 0.4, id: 'dla', label: 'DLA^0.4' }]);
+  assert.deepEqual(r.integrals, ['energy', 'constraint']);
+  assert.deepEqual(r.observables, ['x', 'speed']);
+  assert.equal(r.cells, 4);
+  assert.deepEqual(cellState(r.row(0, 0), 'energy'), { kind: 'bounded', max: 2e-4 });
+  assert.deepEqual(cellState(r.row(1, 0), 'energy'), { kind: 'drift', max: 1.5e-3 });
+  assert.deepEqual(r.row(1, 0).verdicts.constraint, { kind: 'exact', max: 0, early: 0, late: 0, ratio: null });
+  assert.deepEqual(r.row(1, 0).gaps, { constraint: { since: 2.5 } });
+  assert.deepEqual(r.row(1, 0).observables, { x: 0.5, speed: null });
+  assert.deepEqual(cellState(r.row(2, 0), 'energy'), { kind: 'failed', max: null });
+  assert.equal(r.row(2, 0).error, 'step 7 at t = 0.06: diverged, "too large"');
+  assert.equal(r.row(2, 0).cpu_ms, null);
+  assert.deepEqual(cellState(r.row(3, 0), 'energy'), { kind: 'invalid', max: null });
+  assert.deepEqual(r.row(3, 0).simulate, { methods: [{ alpha: 0.4, id: 'dla' }], step: 0.01, system: 'cvt' });
+  // Saved again by the page: the same columns, the observables' before simulate.
+  assert.equal(r.toCSV().split('\n')[0], SERVER_CSV.split('\n')[0]);
+  assert.deepEqual(r.toJSON().observables, ['x', 'speed']);
+  // Rows in any order, line ends \r\n, a byte-order mark (a spreadsheet's save).
+  const [head, ...lines] = SERVER_CSV.trimEnd().split('\n');
+  const shuffled = sweepFromCSV(`\ufeff${[head, ...lines.reverse()].join('\r\n')}\r\n`);
+  assert.deepEqual(shuffled.rows(), r.rows());
+  // Without the simulate column (pandas' CSV of `to_pandas()`): the numbers, no run to open.
+  const bare = sweepFromCSV(parseCSV(SERVER_CSV).map((f) => f.slice(0, -1).map(csvField).join(',')).join('\n'));
+  assert.deepEqual(bare.methods, [{ label: 'DLA^0.4' }]);
+  assert.deepEqual(cellState(bare.row(1, 0), 'energy'), cellState(r.row(1, 0), 'energy'));
+  assert.equal(bare.row(1, 0).simulate, null);
+});
+
+test('a bad CSV says what it lacks', () => {
+  const [head, ...lines] = SERVER_CSV.trimEnd().split('\n');
+  const bad = (text, message) => assert.throws(() => sweepFromCSV(text), (e) => e.message.startsWith('this is not a sweep saved as CSV: ') && message.test(e.message), message);
+  bad('', /the header must start with "cell", the axes' paths, then "method_index", "method", "status"/);
+  bad(JSON.stringify(filled([0]).toJSON()), /the header must start with "cell"/);
+  bad(head.replace(',step,', ',step,a,b,'), /more than 3 axes/);
+  bad(head, /it has no rows/);
+  bad(`${head}\n0,0.0,0.02\n`, /row 1 has 3 fields, the header 25/);
+  bad([head, lines[0].replace(',15,', ',many,')].join('\n'), /row 1: "steps" is many, not a number/);
+  bad([head, lines[0].replace('0,DLA', 'x,DLA')].join('\n'), /"method_index" is x, not a number/);
+  bad(`${head}\n0,"unclosed`, /a quoted field is never closed/);
+  bad([head, lines[0].replace('"{', '"nope{')].join('\n'), /row 1: "simulate" is not JSON/);
+  // The rows of step 0.02 (cells 0 and 2) missing: the step axis is not known whole.
+  bad([head, lines[1], lines[3]].join('\n'), /cell 3 is not where its axis values put it \(an axis value that no row has/);
+  // A partial sweep whose rows have every axis value opens, the other cells pending.
+  const r4 = sweepFromCSV(SERVER_CSV);
+  const partial = sweepFromCSV([head, lines[1], lines[2]].join('\n'));
+  assert.deepEqual(partial.axes, r4.axes, 'each value at its place, whichever rows came');
+  assert.equal(partial.received, 2);
+  assert.deepEqual(cellState(partial.row(0, 0), 'energy'), { kind: 'pending', max: null });
 });

@@ -9,6 +9,7 @@ use crate::export::{CATCH_DOWNLOADS, DOWNLOADS, save};
 use crate::page::{PLOT_REPORT, js, poll, screenshot, wait_for_status, wait_for_view};
 use fantoccini::actions::{InputSource, MOUSE_BUTTON_LEFT, MouseActions, PointerAction};
 use fantoccini::{Client, Locator};
+use nhlab_server::sweep::csv;
 use serde_json::{Value, json};
 use std::time::Duration;
 
@@ -268,13 +269,32 @@ return {
 /// A sweep saved as JSON with a method written in Python among its methods, as the Python
 /// package publishes one (`SweepRows.to_json`), opens in the Map view from a file: its own
 /// axes and methods, every cell drawn with its verdict, and a cell of the Python method is
-/// named but not opened in Explore (it runs only in the Python package).
+/// named but not opened in Explore (it runs only in the Python package). The same rows as
+/// the server's CSV writer gives them open alike.
 pub(crate) async fn map_opens_a_file(client: &Client, base: &str) -> Result<(), String> {
+    let sweep = saved_sweep();
+    let columns = csv::Columns {
+        axes: vec!["methods[0].damping".into(), "params.epsilon".into()],
+        integrals: vec!["energy".into(), "constraint".into()],
+        observables: vec![],
+    };
+    let rows = sweep["rows"].as_array().cloned().unwrap_or_default();
+    let files = [
+        ("projected-verlet.json", sweep.to_string()),
+        ("projected-verlet.csv", csv::write(&columns, rows.into_iter())),
+    ];
+    for (name, text) in files {
+        map_opens(client, base, name, &text).await?;
+    }
+    Ok(())
+}
+
+async fn map_opens(client: &Client, base: &str, name: &str, contents: &str) -> Result<(), String> {
     let link = format!("{base}?view=map");
     client.goto(&link).await.map_err(|e| format!("cannot load {link}: {e}"))?;
     let dir = tempfile::tempdir().map_err(|e| format!("no temporary folder: {e}"))?;
-    let path = dir.path().join("projected-verlet.json");
-    std::fs::write(&path, saved_sweep().to_string()).map_err(|e| format!("cannot write: {e}"))?;
+    let path = dir.path().join(name);
+    std::fs::write(&path, contents).map_err(|e| format!("cannot write: {e}"))?;
     let input = client
         .wait()
         .at_most(Duration::from_secs(20))

@@ -5,6 +5,7 @@
 // coordinate's zero), the request's `observables` and `section` fields, a run's columns as
 // x/y pairs, nice linear ticks and a padded range, and a panel's CSV. Node tests cover them.
 
+import { csvField } from './csv.js';
 import { isCustom, isGeneral } from './custom.js';
 import { findSystem } from './catalog.js';
 
@@ -141,9 +142,4 @@ export function xyCSV(runs, part, x, y) {
 
 function num(v) {
   return v === null || v === undefined ? '' : String(v);
-}
-
-function csvField(s) {
-  const t = String(s);
-  return /[",\n]/.test(t) ? `"${t.replace(/"/g, '""')}"` : t;
 }

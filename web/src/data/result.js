@@ -5,6 +5,8 @@
 // from its `progress` events), which a cancelled run keeps. Where asked for, a run's sampled
 // `observables` and its Poincaré `section` grow column by column from their events.
 
+import { csvField } from './csv.js';
+
 export class Result {
   /** `now()`: a clock in ms (injectable for tests). */
   constructor(scene, now = () => performance.now()) {
@@ -153,8 +155,4 @@ function append(run, part, ev) {
 
 function num(v) {
   return v === null || v === undefined ? '' : String(v);
-}
-
-function csvField(s) {
-  return /[",\n]/.test(s) ? `"${s.replace(/"/g, '""')}"` : s;
 }

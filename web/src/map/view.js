@@ -3,8 +3,9 @@
 // integral (or of log₁₀ of its largest error) that fills in as cells arrive, in any order;
 // with one axis, a line plot of every method's largest error beside it. Hovering a cell
 // names it and gives its numbers; clicking it opens that run in Explore. A sweep saved as
-// JSON opens from a file (the JSON download, or a sweep the Python package published, whose
-// methods written in Python run nowhere else: their cells do not open). Presets
+// JSON or CSV opens from a file (either download, `POST /sweep`'s answer, or a sweep the
+// Python package published, whose methods written in Python run nowhere else: their cells
+// do not open). Presets
 // (presets.json) set the scene and the axes and compute at once. Its state is the form's
 // plus the map's settings, in the URL as `?view=map&…` (sweep.js); `run=1` computes on load.
 
@@ -16,7 +17,7 @@ import { MapControls } from './controls.js';
 import { MapLine } from './line.js';
 import PRESETS from './presets.json';
 import { axisPaths, cellAtXY, cellXY, decodeSettings, mapPresets, mapQuery, presetSetup, sweepBody } from './sweep.js';
-import { SweepResult, cellLines, cellState, fmt, sweepFromJSON, writtenInPython } from './sweepresult.js';
+import { SweepResult, cellLines, cellState, fmt, sweepFromCSV, sweepFromJSON, writtenInPython } from './sweepresult.js';
 import { VERDICTS } from '../data/verdicts.js';
 import { download, el } from '../draw/dom.js';
 import { fileButtons } from '../draw/export.js';
@@ -265,7 +266,8 @@ export class MapView {
     if (row?.simulate) this.onOpen(row.simulate);
   }
 
-  // A sweep saved as JSON, shown as if computed here: its own axes, methods and integrals.
+  // A sweep saved as JSON or CSV (by its name or type), shown as if computed here: its own
+  // axes, methods and integrals.
   async #openFile(input) {
     const file = input.files?.[0];
     if (!file) return;
@@ -273,7 +275,8 @@ export class MapView {
     this.errorBox.hidden = true;
     let result;
     try {
-      result = sweepFromJSON(JSON.parse(await file.text()));
+      const text = await file.text();
+      result = isCSV(file) ? sweepFromCSV(text) : sweepFromJSON(JSON.parse(text));
     } catch (e) {
       this.#status('error', `Cannot open ${file.name}: ${e.message}.`);
       return;
@@ -282,7 +285,7 @@ export class MapView {
     }
     this.result = result;
     this.computedFor = null;
-    this.computed = { caption: `${file.name} (opened from a file)`, stem: file.name.replace(/\.json$/i, '') };
+    this.computed = { caption: `${file.name} (opened from a file)`, stem: file.name.replace(/\.(json|csv)$/i, '') };
     const xs = result.axes.length === 1 ? result.axes[0].values : [];
     this.logX = xs.length > 2 && xs.every((x) => x > 0) && Math.abs(Math.log(xs[2] / xs[1]) - Math.log(xs[1] / xs[0])) < 1e-9;
     this.#busy(false);
@@ -371,6 +374,10 @@ function methodLabel(catalog, m) {
   const params = Object.entries(m.params ?? {}).map(([k, v]) => `${k} = ${v}`);
   const name = `${info?.name ?? m.id}${m.composition ? ` ∘${m.composition}` : ''}`;
   return params.length ? `${name} (${params.join(', ')})` : name;
+}
+
+function isCSV(file) {
+  return /\.csv$/i.test(file.name) || file.type === 'text/csv';
 }
 
 function seconds(ms) {
