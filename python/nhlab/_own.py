@@ -24,8 +24,9 @@ class Method:
     `step(system, q, v, h, memory)` returns the state one step h later, `(q1, v1)`.
     `system` gives M, V, A and their derivatives as calls on numpy arrays (`system.M()`,
     `system.grad_V(q)`, `system.A(q)`, `system.jac_Av(q, v)`, ...), the paper's pieces for a
-    system of its class (`system.U`, `system.V_d`, `system.A_x`, `system.zeta_index`), and
-    the helpers `system.multiplier(q, v)`, `system.project(q, v)` and
+    system of its class (`system.U`, `system.V_d`, `system.A_x`, `system.zeta_index`), its
+    energy and invariants (`system.energy(q, v)`, `system.invariants(q, v)`, a dict by
+    name), and the helpers `system.multiplier(q, v)`, `system.project(q, v)` and
     `system.newton(residual, jacobian, x0)`. `memory` is a dict the step may keep things in
     between steps of one run: a shallow copy of what the step before left (so replace its
     values rather than change them in place), empty when the step starts from another

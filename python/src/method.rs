@@ -156,7 +156,8 @@ fn solved<'py>(
 }
 
 /// The system a method's step sees (`docs/own-methods.md`): M, V, A and their derivatives
-/// as calls on numpy arrays, the paper's pieces for a system of its class, and the helpers.
+/// as calls on numpy arrays, the paper's pieces for a system of its class, its invariants,
+/// and the helpers.
 #[pyclass(frozen, name = "System", module = "nhlab")]
 pub struct PySystem;
 
@@ -255,6 +256,33 @@ impl PySystem {
         with_system(|s| {
             let n = s.sizes().0;
             Ok(s.energy(&floats(q, n, "q")?, &floats(v, n, "v")?))
+        })
+    }
+    /// The names of the system's invariants, the keys of [`invariants`](Self::invariants):
+    /// for the paper's class `passenger_energy` and `driver_energy`, then those it declares.
+    #[getter]
+    fn invariant_names(&self) -> PyResult<Vec<String>> {
+        with_system(|s| Ok(s.invariant_names().into_iter().map(str::to_owned).collect()))
+    }
+    /// The system's invariants at (q, q̇), a dict by name: for the paper's class the passenger
+    /// and driver energies E and h, then the invariants it declares (empty where it has none).
+    fn invariants<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        with_system(|s| {
+            let n = s.sizes().0;
+            let (q, v) = (floats(q, n, "q")?, floats(v, n, "v")?);
+            let names = s.invariant_names();
+            let mut values = vec![f64::NAN; names.len()];
+            s.invariants(&q, &v, &mut values);
+            let dict = PyDict::new(py);
+            for (name, value) in names.into_iter().zip(values) {
+                dict.set_item(name, value)?;
+            }
+            Ok(dict)
         })
     }
     /// The M-orthogonal projection of v onto the constraints at q, v − M⁻¹Aᵀ(AM⁻¹Aᵀ)⁻¹A v.

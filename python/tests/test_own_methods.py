@@ -194,6 +194,55 @@ def test_the_system_is_refused_outside_a_step_and_a_method_is_checked():
         nhlab.simulate("knife_edge", methods=[NoOrder()])
 
 
+class ReadsInvariants(nhlab.Method):
+    """Keeps what `system` gives of the invariants at each step's start, with (q, v)."""
+
+    def __init__(self):
+        self.seen = []
+
+    def step(self, system, q, v, h, memory):
+        self.seen.append((system.invariant_names, system.invariants(q, v), q.copy(), v.copy()))
+        return q + h * v, v
+
+
+def invariants_seen(*args, **kwargs):
+    method = ReadsInvariants()
+    r = nhlab.simulate(*args, t_end=2, points=4, methods=[method], **kwargs)
+    assert r.runs[0].status == "ok", r.runs[0].error
+    assert len(method.seen) >= 3
+    return method.seen
+
+
+SLEIGH = {"name": "sleigh", "coordinates": ["x", "y", "theta"],
+          "parameters": {"m": 2, "I": 0.5, "a": 0.5},
+          "mass": ["m", "m", "I"], "potential": "0",
+          "constraints": [["-sin(theta)", "cos(theta)", "-a"]],
+          "invariants": {"kinetic": "m*(x_dot^2 + y_dot^2)/2 + I*theta_dot^2/2"}}
+
+
+def test_the_system_gives_its_invariants_inside_a_step():
+    close = dict(rel=1e-14, abs=1e-14)
+    # Declared in the general form, at the parameters' values of the run (m = 3).
+    for names, values, q, v in invariants_seen(SLEIGH, params={"m": 3}, q=[0, 0, 0],
+                                               v=[0, 0.5, 1]):
+        assert names == ["kinetic"] and list(values) == names
+        assert values["kinetic"] == pytest.approx(3 * (v[0]**2 + v[1]**2) / 2 + 0.5 * v[2]**2 / 2,
+                                                  **close)
+    # The contact oscillator's H_y, found in the paper's class with y the driver: the run
+    # holds (x, z, y), and E and h come first.
+    for names, values, q, v in invariants_seen("contact_oscillator", preset="mp"):
+        assert names == ["passenger_energy", "driver_energy", "H_y"] and list(values) == names
+        (x, z, y), (xd, zd, yd) = q, v
+        assert values["H_y"] == pytest.approx((y**2 + yd**2) / 2, **close)
+        assert values["driver_energy"] == pytest.approx(values["H_y"], **close)
+        passenger = (xd**2 + zd**2) / 2 + (x**2 + z**2) / 2 + 0.3 * x**2 * z**2 / 2
+        assert values["passenger_energy"] == pytest.approx(passenger, **close)
+    # A built-in of the class declares none; one of the general class has none.
+    names, values, _, _ = invariants_seen("knife_edge", preset="paper")[0]
+    assert names == ["passenger_energy", "driver_energy"] and list(values) == names
+    assert all(seen[:2] == ([], {}) for seen in invariants_seen("chaplygin_sleigh"))
+
+
 def test_a_general_system_is_seen_whole(http):
     sleigh = {"system": "chaplygin_sleigh", "t_end": 30}
     r = nhlab.simulate(**sleigh, methods=["leapfrog", Leapfrog()], points=20,

@@ -19,6 +19,7 @@ use crate::model::system::{BuiltIn, System, SystemInfo};
 use crate::{InputError, Integral, Method, RunError, State, StepFailure, Vector};
 use nalgebra::DMatrix;
 use std::marker::PhantomData;
+use std::sync::Arc;
 
 /// Every system, in listing order.
 pub static SYSTEMS: &[SystemEntry] = crate::with_systems!(__system_entries);
@@ -113,6 +114,9 @@ pub struct Start<'a> {
     /// The compilation of a system given as formulas (whose parameters are compiled into
     /// it); `None` for a built-in compiled into nhlab.
     pub formulas: Option<&'a Structure>,
+    /// The invariants of a system given as formulas, when it declares any, on the code's
+    /// `(q, q̇)`: the system built carries them (`System::invariants`), and a run measures them.
+    pub invariants: Option<&'a Arc<Invariants>>,
 }
 
 /// What one run needs besides the method, sizes erased.
@@ -128,8 +132,6 @@ pub struct RunInput<'a> {
     pub integrals: &'a [Integral],
     /// The monodromy axis, when the latitude is measured.
     pub latitude: Option<LatitudeAxis>,
-    /// The system's invariants, when it has any.
-    pub invariants: Option<&'a Invariants>,
 }
 
 /// A system's M and A at a state, as the start's checks read them (`Scene::resolve`).
@@ -242,7 +244,9 @@ impl<const N: usize, const R: usize> Build<N, R> for ClassFormulas {
     fn build(start: &Start<'_>) -> Custom<N, R> {
         // `Scene` pairs the code of a system given as formulas with its compilation.
         match start.formulas {
-            Some(Structure::Class { compiled, .. }) => Custom::new(compiled.clone()),
+            Some(Structure::Class { compiled, .. }) => {
+                Custom::new(compiled.clone()).with_invariants(start.invariants.cloned())
+            }
             _ => unreachable!("a class system given as formulas runs with its compilation"),
         }
     }
@@ -252,7 +256,9 @@ impl<const N: usize, const R: usize> Build<N, R> for GeneralFormulas {
     type System = GeneralCustom<N, R>;
     fn build(start: &Start<'_>) -> GeneralCustom<N, R> {
         match start.formulas {
-            Some(Structure::General(compiled)) => GeneralCustom::new(compiled.clone()),
+            Some(Structure::General(compiled)) => {
+                GeneralCustom::new(compiled.clone()).with_invariants(start.invariants.cloned())
+            }
             _ => unreachable!("a general system given as formulas runs with its compilation"),
         }
     }
@@ -331,7 +337,7 @@ impl SystemCode {
                     steps: input.steps,
                     integrals: input.integrals,
                     latitude: input.latitude,
-                    invariants: input.invariants,
+                    invariants: sys.invariants(),
                 };
                 simulate::run_method(&problem, method, cfg, observer)
             },
@@ -378,7 +384,7 @@ impl SystemCode {
                     steps: input.steps,
                     integrals: input.integrals,
                     latitude: None,
-                    invariants: input.invariants,
+                    invariants: sys.invariants(),
                 };
                 simulate::run_method_general(&problem, method, cfg, observer)
             },

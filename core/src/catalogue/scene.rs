@@ -508,6 +508,7 @@ impl Scene {
             q: &self.internal.0,
             v: &self.internal.1,
             formulas: self.system.formulas().map(|c| &c.structure),
+            invariants: self.system.formulas().and_then(|c| c.invariants.as_ref()),
         }
     }
 
@@ -687,14 +688,12 @@ impl PreparedScene {
     /// Runs one method, streaming to `observer` (the final state in the user's order).
     pub fn run(&self, method: &Method, cfg: &RunConfig, observer: &mut dyn Observer) -> RunOutcome {
         let scene = &self.scene;
-        let invariants = scene.system.formulas().and_then(|c| c.invariants.as_deref());
         let input = RunInput {
             start: scene.start(),
             step: scene.step,
             steps: scene.steps(),
             integrals: &self.integrals,
             latitude: self.latitude,
-            invariants,
         };
         let run = scene.system.code().run;
         match scene.system.formulas() {

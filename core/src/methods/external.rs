@@ -5,7 +5,10 @@
 //! process registers nothing: there the id is refused, and users' code never runs in it.
 //!
 //! The step sees the system through [`SystemView`] (slices in, slices out, sizes erased) and
-//! returns the new `(q, q̇)`; λ is left as it was (no measurement reads it). What the
+//! returns the new `(q, q̇)`; λ is left as it was (no measurement reads it). The view reaches
+//! the invariants a system declares through the system itself (`System::invariants`,
+//! `Mechanical::invariants`: a system given as formulas is built carrying those of its spec),
+//! so every caller of a step, a run as the property checks, hands them over with it. What the
 //! outside code keeps between steps is its own, named by *keys* that this method's memory
 //! ([`ExternalMemory`]) holds: each step reads what the step before left under one key and
 //! leaves its own under a new one, so a memory copied to two branches (the property checks
@@ -249,8 +252,9 @@ impl GeneralStepper for External {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::custom::GeneralSpec;
     use crate::model::systems::KnifeEdge;
-    use crate::{Method, MethodSpec};
+    use crate::{Collect, Method, MethodSpec, RunConfig, Scene, SceneRequest, SystemRequest};
 
     /// Records the keys it is given; fails when asked to by h < 0.
     struct Keys(Mutex<Vec<(u64, u64)>>);
@@ -318,5 +322,94 @@ mod tests {
         let gone = Method::from_spec(&MethodSpec::new("python").with("handle", handle.into()));
         assert!(gone.unwrap_err().to_string().contains("only in the nhlab Python package"));
         assert!(!Method::all().iter().any(|m| m.info().external));
+    }
+
+    /// What a step saw of the invariants: names, values, and the `(q, q̇)` they are at.
+    type Seen = (Vec<String>, Vec<f64>, Vec<f64>, Vec<f64>);
+
+    /// Records what the view gives of the invariants at each step's start; steps by Euler.
+    struct Invariants(Mutex<Vec<Seen>>);
+
+    impl ExternalStep for Invariants {
+        fn name(&self) -> &str {
+            "invariants"
+        }
+        fn order(&self) -> u32 {
+            1
+        }
+        fn symmetric(&self) -> bool {
+            false
+        }
+        fn step(
+            &self,
+            sys: &dyn SystemView,
+            _: (u64, u64),
+            q: &mut [f64],
+            v: &mut [f64],
+            h: f64,
+        ) -> Result<(), String> {
+            let names: Vec<String> = sys.invariant_names().into_iter().map(String::from).collect();
+            let mut values = vec![f64::NAN; names.len()];
+            sys.invariants(q, v, &mut values);
+            self.0.lock().unwrap().push((names, values, q.to_vec(), v.to_vec()));
+            q.iter_mut().zip(v.iter()).for_each(|(q, v)| *q += h * v);
+            Ok(())
+        }
+    }
+
+    /// What the steps of a short run of the scene `req` saw.
+    fn seen(req: SceneRequest) -> Vec<Seen> {
+        let recorder = Arc::new(Invariants(Mutex::default()));
+        let handle = register(recorder.clone());
+        let method = Method::from_spec(&MethodSpec::new("python").with("handle", handle.into()))
+            .expect("registered");
+        let req = SceneRequest { t_end: Some(2.0), ..req };
+        let scene = Scene::resolve(&req).expect("a scene").prepare(None).expect("prepared");
+        let out = scene.run(&method, &RunConfig::default(), &mut Collect::default());
+        unregister(handle);
+        assert_eq!(out.error, None);
+        let seen = recorder.0.lock().unwrap().clone();
+        assert!(seen.len() >= 3);
+        seen
+    }
+
+    #[test]
+    fn the_view_gives_the_invariants_a_system_declares_and_the_class_energies() {
+        let built_in = |id: &str| seen(SceneRequest { system: id.into(), ..Default::default() });
+        // Found in the paper's class with y the driver: the run holds (x, z, y).
+        for (names, values, q, v) in built_in("contact_oscillator") {
+            assert_eq!(names, ["passenger_energy", "driver_energy", "H_y"]);
+            let (x, z, y) = (q[0], q[1], q[2]);
+            let passenger =
+                0.5 * (v[0] * v[0] + v[1] * v[1]) + 0.5 * (x * x + z * z) + 0.15 * x * x * z * z;
+            let h_y = 0.5 * (y * y + v[2] * v[2]);
+            for (value, expected) in values.iter().zip([passenger, h_y, h_y]) {
+                assert!((value - expected).abs() <= 1e-14 * expected.abs().max(1.0));
+            }
+        }
+        let sleigh = GeneralSpec::of(
+            "sleigh",
+            &["x", "y", "theta"],
+            (&["m", "I", "a"], &[2.0, 0.5, 0.5]),
+            "0",
+            &[&["-sin(theta)", "cos(theta)", "-a"]],
+        )
+        .with_diagonal_mass(&["m", "m", "I"])
+        .with_invariant("kinetic", "m*(x_dot^2 + y_dot^2)/2 + I*theta_dot^2/2");
+        let general = seen(SceneRequest {
+            system: SystemRequest::General(sleigh),
+            q: Some(vec![0.0; 3]),
+            v: Some(vec![0.0, 0.5, 1.0]),
+            ..Default::default()
+        });
+        for (names, values, _, v) in general {
+            assert_eq!(names, ["kinetic"]);
+            let kinetic = v[0] * v[0] + v[1] * v[1] + 0.25 * v[2] * v[2];
+            assert!((values[0] - kinetic).abs() <= 1e-14 * kinetic);
+        }
+        // A built-in of the paper's class declares none; one of the general class, nothing.
+        assert_eq!(built_in("knife_edge")[0].0, ["passenger_energy", "driver_energy"]);
+        let native = built_in("chaplygin_sleigh");
+        assert!(native.iter().all(|(names, values, _, _)| names.is_empty() && values.is_empty()));
     }
 }

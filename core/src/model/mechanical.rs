@@ -10,6 +10,7 @@
 //! step runs on it (the general path the class's faster steps are tested against).
 
 use crate::linalg;
+use crate::model::custom::Invariants;
 use crate::model::system::{System, SystemInfo};
 use crate::{Matrix, Vector};
 
@@ -164,6 +165,11 @@ pub trait Mechanical<const N: usize, const R: usize>: Send + Sync {
     fn quadratic_potential(&self) -> bool {
         false
     }
+    /// The invariants it declares (`docs/model.md` §4), compiled on its `(q, q̇)`: a system
+    /// given as formulas carries those of its spec; a built-in compiled into nhlab has none.
+    fn invariants(&self) -> Option<&Invariants> {
+        None
+    }
 
     /// `∇V(q)`.
     #[inline]
@@ -247,6 +253,9 @@ impl<S: System<N, R>, const N: usize, const R: usize> Mechanical<N, R> for Gener
     }
     fn quadratic_potential(&self) -> bool {
         self.0.quadratic_passenger() && self.0.quadratic_driver()
+    }
+    fn invariants(&self) -> Option<&Invariants> {
+        self.0.invariants()
     }
     /// The class's own, so that a reference solve of a class system gives the numbers it
     /// always gave.

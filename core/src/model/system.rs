@@ -7,7 +7,7 @@
 //! gives its pieces with exact derivatives (Newton needs them); the whole potential, its
 //! gradient and Hessian, the energies and the continuous multiplier are derived here once.
 
-use crate::model::custom::GeneralSpec;
+use crate::model::custom::{GeneralSpec, Invariants};
 use crate::{InputError, Integral, Matrix, Vector};
 
 /// One tunable parameter of a system or a method.
@@ -275,6 +275,11 @@ pub trait System<const N: usize, const R: usize>: Sized + Send + Sync + 'static 
     /// it); a system given as formulas is watched.
     fn rank_is_constant(&self) -> bool {
         false
+    }
+    /// The invariants it declares (`docs/model.md` §4), compiled on its `(q, q̇)`: a system
+    /// given as formulas carries those of its spec; a built-in compiled into nhlab has none.
+    fn invariants(&self) -> Option<&Invariants> {
+        None
     }
 
     /// [`DriverTerms`] at ζ: through [`System::driver_terms_trig`] where ζ is an angle (one

@@ -1,13 +1,16 @@
 //! [`SystemView`]: a system as code outside nhlab sees it inside a step, sizes erased:
 //! vectors and matrices as slices (matrices row by row), each function of `docs/model.md`
-//! §1 one call, and for a system of the paper's class its pieces ([`ClassView`]). Slices of
-//! the wrong length never panic: missing entries read as NaN, extra ones are ignored (the
-//! caller checks shapes and says so).
+//! §1 one call, for a system of the paper's class its pieces ([`ClassView`]), and the
+//! integrals a run measures as functions of `(q, q̇)` besides H, by name (the energies E and h
+//! of the paper's class, the invariants a system declares). Slices of the wrong length never
+//! panic: missing entries read as NaN, extra ones are ignored (the caller checks shapes and
+//! says so).
 
 use crate::linalg;
+use crate::model::custom::Invariants;
 use crate::model::mechanical::{General, Mechanical};
 use crate::model::system::System;
-use crate::{Matrix, Vector};
+use crate::{Integral, MAX_INVARIANTS, Matrix, Vector};
 
 /// A system of the general class, seen from outside (see the module's doc).
 pub trait SystemView {
@@ -37,6 +40,13 @@ pub trait SystemView {
     fn multiplier(&self, q: &[f64], v: &[f64], out: &mut [f64]) -> bool;
     /// The paper's pieces, for a system of its class.
     fn class(&self) -> Option<&dyn ClassView>;
+    /// The names of the integrals besides H that a run of the system measures as functions
+    /// of `(q, q̇)`: for the paper's class `passenger_energy` and `driver_energy` (E and h),
+    /// then the invariants the system declares (`docs/model.md` §4), in order.
+    fn invariant_names(&self) -> Vec<&str>;
+    /// Their values at `(q, q̇)`, in the order of [`invariant_names`](Self::invariant_names),
+    /// into `out`.
+    fn invariants(&self, q: &[f64], v: &[f64], out: &mut [f64]);
 }
 
 /// A system of the paper's class, seen from outside: `q = (x, ζ)` with ζ last,
@@ -67,6 +77,24 @@ fn write<const A: usize, const B: usize>(m: &Matrix<A, B>, out: &mut [f64]) {
 
 fn write_vector<const N: usize>(x: &Vector<N>, out: &mut [f64]) {
     out.iter_mut().zip(x.iter()).for_each(|(slot, x)| *slot = *x);
+}
+
+/// The names of the declared `invariants`.
+fn declared(invariants: Option<&Invariants>) -> impl Iterator<Item = &str> {
+    invariants.into_iter().flat_map(|i| i.names().iter().map(String::as_str))
+}
+
+/// The values of the declared `invariants` at `(q, q̇)`, into `out`.
+fn write_declared<const N: usize>(
+    invariants: Option<&Invariants>,
+    q: &Vector<N>,
+    v: &Vector<N>,
+    out: &mut [f64],
+) {
+    let Some(invariants) = invariants else { return };
+    let mut values = [f64::NAN; MAX_INVARIANTS];
+    invariants.eval(q.as_slice(), v.as_slice(), &mut values);
+    out.iter_mut().zip(&values[..invariants.names().len()]).for_each(|(slot, x)| *slot = *x);
 }
 
 /// Any system of the general class.
@@ -119,6 +147,12 @@ impl<S: Mechanical<N, R>, const N: usize, const R: usize> SystemView
     fn class(&self) -> Option<&dyn ClassView> {
         None
     }
+    fn invariant_names(&self) -> Vec<&str> {
+        declared(self.0.invariants()).collect()
+    }
+    fn invariants(&self, q: &[f64], v: &[f64], out: &mut [f64]) {
+        write_declared(self.0.invariants(), &vector::<N>(q), &vector::<N>(v), out);
+    }
 }
 
 impl<S: System<N, R>, const N: usize, const R: usize> SystemView for Class<'_, S, N, R> {
@@ -159,6 +193,17 @@ impl<S: System<N, R>, const N: usize, const R: usize> SystemView for Class<'_, S
     }
     fn class(&self) -> Option<&dyn ClassView> {
         Some(self)
+    }
+    fn invariant_names(&self) -> Vec<&str> {
+        let energies = [Integral::PassengerEnergy.id(), Integral::DriverEnergy.id()];
+        energies.into_iter().chain(declared(self.0.invariants())).collect()
+    }
+    fn invariants(&self, q: &[f64], v: &[f64], out: &mut [f64]) {
+        let (q, v) = (vector::<N>(q), vector::<N>(v));
+        let energies = [self.0.passenger_energy(&q, &v), self.0.driver_energy(&q, &v)];
+        out.iter_mut().zip(energies).for_each(|(slot, x)| *slot = x);
+        let rest = out.get_mut(energies.len()..).unwrap_or_default();
+        write_declared(self.0.invariants(), &q, &v, rest);
     }
 }
 

@@ -7,6 +7,7 @@
 //! energy or the residual (`docs/model.md` §10).
 
 use super::general::GeneralCompiled;
+use super::invariants::Invariants;
 use crate::model::mechanical::{Derivatives, Forces, Mass, Mechanical};
 use crate::{Matrix, Vector};
 use std::mem::MaybeUninit;
@@ -17,6 +18,8 @@ use std::sync::Arc;
 pub struct GeneralCustom<const N: usize, const R: usize> {
     compiled: Arc<GeneralCompiled>,
     mass: Mass<N>,
+    /// The invariants of its spec, on its `(q, q̇)` ([`with_invariants`](Self::with_invariants)).
+    invariants: Option<Arc<Invariants>>,
 }
 
 /// Most outputs of a general system's `terms` tape: ∇V, A, ∇²V's upper triangle and ∂A/∂q
@@ -37,7 +40,13 @@ impl<const N: usize, const R: usize> GeneralCustom<N, R> {
         }
         // Checked symmetric positive definite when compiled.
         let mass = Mass::of(mass).unwrap_or(Mass::Identity);
-        Self { compiled, mass }
+        Self { compiled, mass, invariants: None }
+    }
+
+    /// The same system carrying `invariants`, compiled on its `(q, q̇)` (those of the spec it
+    /// was compiled from: `Formulated::invariants`).
+    pub fn with_invariants(self, invariants: Option<Arc<Invariants>>) -> Self {
+        Self { invariants, ..self }
     }
 
     fn q<'a>(&self, q: &'a Vector<N>) -> &'a [f64] {
@@ -70,6 +79,9 @@ impl<const N: usize, const R: usize> Mechanical<N, R> for GeneralCustom<N, R> {
     }
     fn quadratic_potential(&self) -> bool {
         self.compiled.quadratic
+    }
+    fn invariants(&self) -> Option<&Invariants> {
+        self.invariants.as_deref()
     }
     #[inline]
     fn potential(&self, q: &Vector<N>) -> f64 {

@@ -7,6 +7,7 @@
 
 use super::compile::{Compiled, Passenger};
 use super::driver_cache::{MAX_OUTPUTS, with_driver_terms};
+use super::invariants::Invariants;
 use crate::model::system::{DriverTerms, System};
 use crate::{Matrix, Vector};
 use std::mem::MaybeUninit;
@@ -18,6 +19,8 @@ pub struct Custom<const N: usize, const R: usize> {
     compiled: Arc<Compiled>,
     /// `(u₀, b, H)` where U is quadratic (driver row and column zero).
     quadratic: Option<(f64, Vector<N>, Matrix<N, N>)>,
+    /// The invariants of its spec, on its `(q, q̇)` ([`with_invariants`](Self::with_invariants)).
+    invariants: Option<Arc<Invariants>>,
 }
 
 impl<const N: usize, const R: usize> Custom<N, R> {
@@ -39,7 +42,13 @@ impl<const N: usize, const R: usize> Custom<N, R> {
             }
             Passenger::General { .. } => None,
         };
-        Self { compiled, quadratic }
+        Self { compiled, quadratic, invariants: None }
+    }
+
+    /// The same system carrying `invariants`, compiled on its `(q, q̇)` (those of the spec it
+    /// was compiled from: `Formulated::invariants`).
+    pub fn with_invariants(self, invariants: Option<Arc<Invariants>>) -> Self {
+        Self { invariants, ..self }
     }
 
     fn x(q: &Vector<N>) -> &[f64] {
@@ -129,6 +138,9 @@ impl<const N: usize, const R: usize> System<N, R> for Custom<N, R> {
     }
     fn zeta_is_angle(&self) -> bool {
         self.compiled.angle
+    }
+    fn invariants(&self) -> Option<&Invariants> {
+        self.invariants.as_deref()
     }
 
     #[inline]
