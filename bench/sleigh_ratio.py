@@ -33,7 +33,7 @@ def final_q(command):
     """The q a run prints last (`q = [x, y, θ]`)."""
     out = subprocess.run(command, check=True, capture_output=True, text=True).stdout
     line = [l for l in out.splitlines() if "q = [" in l][-1]
-    return [float(x) for x in re.findall(FLOAT, line.split("q = [")[1])]
+    return [float(x) for x in re.findall(FLOAT, line.split("q = [")[1].split("]")[0])]
 
 
 def main():

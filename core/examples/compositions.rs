@@ -1,4 +1,4 @@
-//! The measurements of `docs/compositions.md`.
+//! The measurements of `docs/high-order.md`.
 //!
 //! - `wp`: work–precision CSV (the columns of the `work_precision` example) of RK4, LF, DD and
 //!   every symmetric method in every composition, on the knife edge (paper, to t = 100) and the
@@ -11,10 +11,17 @@
 //!   on the knife edge and the rotating perturbed CVT: base and composed runs interleaved, 9
 //!   rounds, the fastest of each (so both see the same noise).
 //!
+//!
+//! `wp spark` and `verdicts spark` do the same for the SPARK methods (s = 2 … 5): the verdicts
+//! on the paper's six scenes; work–precision of RK4, the SPARKs and every composition that
+//! applies, on the same two scenes and the inclined Chaplygin sleigh (to t = 100).
+//!
 //! ```text
 //! cargo run --release -p nhlab-core --example compositions -- wp > target/wp_compositions.csv
 //! cargo run --release -p nhlab-core --example compositions -- verdicts
 //! cargo run --release -p nhlab-core --example compositions -- cost
+//! cargo run --release -p nhlab-core --example compositions -- wp spark > target/wp_spark.csv
+//! cargo run --release -p nhlab-core --example compositions -- verdicts spark
 //! ```
 
 use nhlab_core::catalogue::work_precision::{measure, reference};
@@ -41,17 +48,36 @@ fn composed() -> Vec<Method> {
         .collect()
 }
 
-fn work_precision() -> Result<(), Box<dyn std::error::Error>> {
+/// The SPARK methods, s = 2 … 5.
+fn sparks() -> Vec<Method> {
+    (2..=5)
+        .map(|s| Method::from_spec(&MethodSpec::new("spark").with("stages", f64::from(s))))
+        .collect::<Result<_, _>>()
+        .expect("s = 2 … 5")
+}
+
+fn work_precision(spark: bool) -> Result<(), Box<dyn std::error::Error>> {
     println!("scene,method,step,steps,elapsed_ms,final_error");
     let spec = |id: &str| Method::from_spec(&MethodSpec::new(id));
-    let mut methods = vec![spec("rk4")?, spec("leapfrog")?, spec("dd")?];
-    methods.extend(composed());
-    for (system, preset, h0) in
-        [("knife_edge", "paper", 0.4), ("cvt_pendulum", "rotating-perturbed", 0.2)]
-    {
+    let mut methods = vec![spec("rk4")?];
+    if spark {
+        methods.extend(sparks());
+    } else {
+        methods.extend([spec("leapfrog")?, spec("dd")?]);
+    }
+    // Beside the SPARKs, the compositions of the methods that reach every order in q and q̇
+    // (`docs/high-order.md`): LF's stop at 4, DD's at 2 in q̇.
+    let reaches = |m: &Method| ["dla", "dla01", "rattle"].contains(&m.info().id);
+    methods.extend(composed().into_iter().filter(|m| !spark || reaches(m)));
+    let mut scenes =
+        vec![("knife_edge", "paper", 0.4), ("cvt_pendulum", "rotating-perturbed", 0.2)];
+    if spark {
+        scenes.push(("chaplygin_sleigh", "inclined", 0.4));
+    }
+    for (system, preset, h0) in scenes {
         let prepared = scene(system, preset)?.prepare(Some(&["energy".into()]))?;
         let r = reference(&prepared)?;
-        for m in &methods {
+        for m in methods.iter().filter(|m| prepared.check_method(m).is_ok()) {
             let mut elapsed = 0.0;
             for k in 0.. {
                 let h = h0 / 2f64.powf(0.5 * k as f64);
@@ -75,14 +101,14 @@ fn work_precision() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-fn verdicts() -> Result<(), Box<dyn std::error::Error>> {
+fn verdicts(spark: bool) -> Result<(), Box<dyn std::error::Error>> {
     println!("| scene | method | integral | verdict | max | early max | late mean | ratio |");
     println!("|---|---|---|---|---|---|---|---|");
     for (system, preset) in nhlab_core::PAPER_SCENES {
         let mut s = scene(system, preset)?;
         s.t_end = 30_000.0;
         let prepared = s.prepare(None)?;
-        let methods = composed();
+        let methods = if spark { sparks() } else { composed() };
         let lines = Mutex::new(vec![Vec::new(); methods.len()]);
         let next = Mutex::new(0);
         std::thread::scope(|scope| {
@@ -179,10 +205,11 @@ fn cost() -> Result<(), Box<dyn std::error::Error>> {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let spark = std::env::args().nth(2).as_deref() == Some("spark");
     match std::env::args().nth(1).as_deref() {
-        Some("wp") => work_precision(),
-        Some("verdicts") => verdicts(),
+        Some("wp") => work_precision(spark),
+        Some("verdicts") => verdicts(spark),
         Some("cost") => cost(),
-        _ => Err("usage: compositions wp|verdicts|cost".into()),
+        _ => Err("usage: compositions wp|verdicts|cost [spark]".into()),
     }
 }

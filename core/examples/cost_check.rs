@@ -52,6 +52,7 @@ fn methods() -> Vec<Method> {
     let mut specs: Vec<MethodSpec> =
         ["dla", "dla01", "leapfrog", "dd", "dd_avf", "rk4", "rattle"].map(MethodSpec::new).into();
     specs.push(MethodSpec::new("dla").composed("p8s15"));
+    specs.extend((2..=5).map(|s| MethodSpec::new("spark").with("stages", f64::from(s))));
     specs.iter().map(|s| Method::from_spec(s).expect("a valid method")).collect()
 }
 

@@ -1,10 +1,15 @@
-//! Prints every method's measured properties on every system's presets.
+//! Prints every method's measured properties on every system's presets (SPARK with each of
+//! its stage counts).
 //! `cargo run --release -p nhlab-core --example properties`
 
-use nhlab_core::{Method, SYSTEMS, Scene, SceneRequest};
+use nhlab_core::{Method, MethodSpec, SYSTEMS, Scene, SceneRequest};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let methods = Method::all();
+    let mut methods: Vec<Method> =
+        Method::all().into_iter().filter(|m| m.info().id != "spark").collect();
+    for s in 2..=5 {
+        methods.push(Method::from_spec(&MethodSpec::new("spark").with("stages", f64::from(s)))?);
+    }
     println!(
         "| system/preset | method | reversible | fibration | defect | driver | fiber | constraint |"
     );

@@ -5,7 +5,8 @@
 //! setting up and exiting cancel).
 //!
 //! `step_loop SYSTEM METHOD PATH STEPS [PRESET [RESTART]]`: METHOD is an index into
-//! `Method::all()` (the paper's five, then the others), PRESET an index into the system's
+//! `Method::all()` (the paper's five, then the others) or an id with its parameters
+//! (`spark:stages=4`), PRESET an index into the system's
 //! presets (0 if left out); RESTART, if given and not 0, starts again from the preset's start
 //! every RESTART steps (a scene whose motion runs away, as the inclined sleigh's, is then
 //! measured as its scene runs, not as its far future).
@@ -21,7 +22,9 @@ use nhlab_core::model::custom::Custom;
 use nhlab_core::model::custom::{GeneralCustom, Structure};
 use nhlab_core::model::mechanical::{General, GeneralBuiltIn, Mechanical};
 use nhlab_core::{BuiltIn, CustomLimits, CustomSystem, FormulaSpec, GeneralSpec, Preset, System};
-use nhlab_core::{Method, State, SystemInfo, Vector, for_each_general_system, for_each_system};
+use nhlab_core::{
+    Method, MethodSpec, State, SystemInfo, Vector, for_each_general_system, for_each_system,
+};
 
 /// What runs: the method, on which path, the preset, the steps.
 struct Run {
@@ -100,6 +103,17 @@ fn run_general<S: GeneralBuiltIn<N, R>, const N: usize, const R: usize>(system: 
     }
 }
 
+/// The end point, and the Newton iterations per step (implicit methods).
+fn report<const N: usize>(run: &Run, p: &Preset, q: &Vector<N>) {
+    let per_step = nhlab_core::solver::newton::take_iterations() as f64 / run.steps as f64;
+    println!(
+        "{} on {}: q = {:?}, {per_step:.2} Newton iterations per step",
+        run.method.label(),
+        p.id,
+        q.as_slice()
+    );
+}
+
 fn steps_on<S: System<N, R>, const N: usize, const R: usize>(sys: &S, p: &Preset, run: &Run) {
     let (q, v) = (Vector::<N>::from_column_slice(p.q), Vector::<N>::from_column_slice(p.v));
     let start = State::with_continuous_multiplier(sys, q, v).expect("a preset is regular");
@@ -108,7 +122,7 @@ fn steps_on<S: System<N, R>, const N: usize, const R: usize>(sys: &S, p: &Preset
         st = start;
         run.method.steps(sys, &mut st, p.step, n).expect("the preset runs");
     }
-    println!("{} on {}: q = {:?}", run.method.label(), p.id, st.q.as_slice());
+    report(run, p, &st.q);
 }
 
 fn general_steps_on<S: Mechanical<N, R>, const N: usize, const R: usize>(
@@ -123,7 +137,18 @@ fn general_steps_on<S: Mechanical<N, R>, const N: usize, const R: usize>(
         st = start;
         run.method.steps_general(sys, &mut st, p.step, n).expect("the preset runs");
     }
-    println!("{} on {}: q = {:?}", run.method.label(), p.id, st.q.as_slice());
+    report(run, p, &st.q);
+}
+
+/// A method named by id and parameters: `spark:stages=4`, `dla:alpha=0.3`.
+fn spec(text: &str) -> Result<Method, Box<dyn std::error::Error>> {
+    let (id, params) = text.split_once(':').unwrap_or((text, ""));
+    let mut spec = MethodSpec::new(id);
+    for pair in params.split(',').filter(|p| !p.is_empty()) {
+        let (name, value) = pair.split_once('=').ok_or("a parameter is NAME=VALUE")?;
+        spec = spec.with(name, value.parse()?);
+    }
+    Ok(Method::from_spec(&spec)?)
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -145,9 +170,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .into());
         }
     };
-    let m = all.get(method.parse::<usize>()?).ok_or("no such method index")?;
+    let m = match method.parse::<usize>() {
+        Ok(i) => *all.get(i).ok_or("no such method index")?,
+        Err(_) => spec(method)?,
+    };
     let method = match path.as_str() {
-        "fast" | "formulas" | "as-general" | "general-formulas" => *m,
+        "fast" | "formulas" | "as-general" | "general-formulas" => m,
         "general" => m.general_path().ok_or("this method has no general path")?,
         _ => return Err("PATH is fast, general, formulas, as-general or general-formulas".into()),
     };

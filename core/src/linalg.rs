@@ -206,6 +206,68 @@ pub(crate) fn smallest_cholesky_pivot<const R: usize>(g: &Matrix<R, R>) -> f64 {
     smallest
 }
 
+/// LU with partial pivoting, in place, of the d×d matrix stored row by row in `a[..d·d]`, for
+/// systems whose size const generics cannot state (a SPARK step's s·N + (s − 1)·R unknowns).
+/// The rows are swapped where they lie; `swaps[k]` is the row swapped with row k. `None` when
+/// a pivot is zero or not finite (singular matrix).
+pub(crate) fn lu_in_place(a: &mut [f64], d: usize, swaps: &mut [usize]) -> Option<()> {
+    for k in 0..d {
+        let (mut piv, mut largest) = (k, a[k * d + k].abs());
+        for i in k + 1..d {
+            let x = a[i * d + k].abs();
+            if x > largest {
+                (piv, largest) = (i, x);
+            }
+        }
+        // Also false for NaN: a pivot that is zero or not finite leaves the matrix singular.
+        if !(largest > 0.0 && largest.is_finite()) {
+            return None;
+        }
+        swaps[k] = piv;
+        if piv != k {
+            let (upper, lower) = a.split_at_mut(piv * d);
+            upper[k * d..(k + 1) * d].swap_with_slice(&mut lower[..d]);
+        }
+        // Row k, then the rows below it, each reduced by a multiple of row k's tail.
+        let (done, below) = a.split_at_mut((k + 1) * d);
+        let pivot_row = &done[k * d + k..(k + 1) * d];
+        let pivot = pivot_row[0];
+        for row in below.chunks_exact_mut(d) {
+            let l = row[k] / pivot;
+            row[k] = l;
+            if l != 0.0 {
+                for (x, &p) in row[k + 1..].iter_mut().zip(&pivot_row[1..]) {
+                    *x -= l * p;
+                }
+            }
+        }
+    }
+    Some(())
+}
+
+/// Solves `A x = b` in place (`b` becomes x) with the factors of [`lu_in_place`].
+pub(crate) fn lu_solve_in_place(a: &[f64], d: usize, swaps: &[usize], b: &mut [f64]) {
+    for (k, &swap) in swaps[..d].iter().enumerate() {
+        b.swap(k, swap);
+    }
+    for i in 1..d {
+        let row = &a[i * d..i * d + i];
+        let mut sum = 0.0;
+        for (x, y) in row.iter().zip(&b[..i]) {
+            sum += x * y;
+        }
+        b[i] -= sum;
+    }
+    for i in (0..d).rev() {
+        let row = &a[i * d + i..(i + 1) * d];
+        let mut sum = 0.0;
+        for (x, y) in row[1..].iter().zip(&b[i + 1..d]) {
+            sum += x * y;
+        }
+        b[i] = (b[i] - sum) / row[0];
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -217,6 +279,19 @@ mod tests {
         assert_eq!(det, -5.0);
         assert!((adj * a - Matrix::<3, 3>::identity() * det).amax() < 1e-14, "{adj}");
         assert!(adjugate3(&Matrix::<2, 2>::identity()).is_none());
+    }
+
+    #[test]
+    fn the_in_place_lu_solves_as_the_fixed_size_one() {
+        let a = Matrix::<4, 4>::from_fn(|i, j| if i == j { 0.1 } else { 1.0 + (i * j) as f64 });
+        let b = Matrix::<4, 1>::new(1.0, -2.0, 0.5, 3.0);
+        let mut flat: Vec<f64> = (0..16).map(|k| a[(k / 4, k % 4)]).collect();
+        let (mut swaps, mut x) = ([0; 4], b.as_slice().to_vec());
+        lu_in_place(&mut flat, 4, &mut swaps).expect("regular");
+        lu_solve_in_place(&flat, 4, &swaps, &mut x);
+        let fixed = Lu::new(a).expect("regular").solve(&b);
+        assert!(x.iter().zip(fixed.iter()).all(|(u, v)| (u - v).abs() < 1e-13), "{x:?}");
+        assert!(lu_in_place(&mut [1.0, 2.0, 2.0, 4.0], 2, &mut [0; 2]).is_none(), "singular");
     }
 
     #[test]

@@ -200,6 +200,7 @@ methods!(
     dd_avf::DdAvf,
     rk4::Rk4,
     rattle::Rattle,
+    spark::Spark,
     reference_step::ReferenceStep,
     external::External,
 );
@@ -227,10 +228,12 @@ impl Method {
         }
     }
     /// Order of convergence: a composition's, where its base method reaches it (see
-    /// [`MethodInfo::composed_order_limit`]).
+    /// [`MethodInfo::composed_order_limit`]), and never below the base's own (sub-steps
+    /// whose coefficients sum to 1 keep it).
     pub fn order(&self) -> u32 {
         let limit = self.info().composed_order_limit.unwrap_or(u32::MAX);
-        self.composition.map_or_else(|| self.base.order(), |c| c.order().min(limit))
+        let base = self.base.order();
+        self.composition.map_or(base, |c| c.order().min(limit).max(base))
     }
     /// Sub-steps per step: 1, or the composition's stages.
     pub fn stages(&self) -> usize {

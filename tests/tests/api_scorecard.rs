@@ -84,7 +84,10 @@ async fn default_scorecard_reproduces_the_papers_tables() {
     assert!(card["criterion"].as_str().unwrap().contains("1e-10"));
     let methods: Vec<&str> =
         card["methods"].as_array().unwrap().iter().map(|m| m["label"].as_str().unwrap()).collect();
-    assert_eq!(methods, ["DLA^0.5", "DLA^0.4", "DLA^{0,1}", "LF", "DD", "DD-AVF", "RK4", "RATTLE"]);
+    assert_eq!(
+        methods,
+        ["DLA^0.5", "DLA^0.4", "DLA^{0,1}", "LF", "DD", "DD-AVF", "RK4", "RATTLE", "SPARK3"]
+    );
     let scenes = card["scenes"].as_array().unwrap();
     let ids: Vec<&str> = scenes.iter().map(|s| s["id"].as_str().unwrap()).collect();
     assert_eq!(
@@ -108,7 +111,7 @@ async fn default_scorecard_reproduces_the_papers_tables() {
     // Outside the paper's class DD-AVF has no step: its run says so, with why.
     let general = ["chaplygin_sleigh", "chaotic_oscillator", "heisenberg"];
     for scene in scenes {
-        assert_eq!(scene["runs"].as_array().unwrap().len(), 8, "{}", scene["id"]);
+        assert_eq!(scene["runs"].as_array().unwrap().len(), 9, "{}", scene["id"]);
         let system = scene["scene"]["system"].as_str().unwrap();
         for run in scene["runs"].as_array().unwrap() {
             let expected = if general.contains(&system) && run["method"]["id"] == "dd_avf" {
@@ -154,10 +157,10 @@ async fn default_scorecard_reproduces_the_papers_tables() {
 
     // The paper's property table, measured on every CVT scene.
     let properties = card["properties"].as_array().unwrap();
-    assert_eq!(properties.len(), 13 * 8);
+    assert_eq!(properties.len(), 13 * 9);
     for p in properties.iter().filter(|p| general.contains(&p["system"].as_str().unwrap())) {
         assert!(p["preserves_fibration"].is_null(), "{p}");
-        if p["method"]["id"] == "rattle" {
+        if ["rattle", "spark"].contains(&p["method"]["id"].as_str().unwrap()) {
             assert_eq!((&p["reversible"], &p["symmetric"]), (&json!(true), &json!(true)), "{p}");
         }
     }

@@ -39,8 +39,8 @@ async fn systems_lists_the_compositions_and_who_may_take_them() {
         .filter(|m| m["composable"] == true)
         .map(|m| m["id"].as_str().unwrap())
         .collect();
-    assert_eq!(composable, ["dla", "dla01", "leapfrog", "dd", "dd_avf", "rattle"]);
-    // Where compositions stop below the scheme's order (measured, docs/compositions.md).
+    assert_eq!(composable, ["dla", "dla01", "leapfrog", "dd", "dd_avf", "rattle", "spark"]);
+    // Where compositions stop below the scheme's order (measured, docs/high-order.md).
     let limits: Vec<(&str, u64)> = systems["methods"]
         .as_array()
         .unwrap()

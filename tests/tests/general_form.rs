@@ -154,6 +154,64 @@ async fn systems_say_who_is_in_the_paper_s_class() {
     }
     assert_eq!(find("vertical_disk")["exact"], true);
     assert_eq!(systems["literature_scenes"].as_array().unwrap().len(), 7);
+    // A preset's parameters may take its system out of the class: each preset says.
+    let presets = |id: &str| -> Vec<(String, bool)> {
+        let system = find(id);
+        let list = system["presets"].as_array().unwrap().clone();
+        list.iter()
+            .map(|p| (p["id"].as_str().unwrap().to_owned(), p["paper_class"] == true))
+            .collect()
+    };
+    let disk = presets("vertical_disk");
+    assert!(disk.contains(&("heavy".to_owned(), false)), "{disk:?}");
+    assert!(disk.iter().any(|(_, member)| *member), "{disk:?}");
+    assert!(presets("knife_edge").iter().all(|(_, member)| *member));
+    assert!(presets("chaplygin_sleigh").iter().all(|(_, member)| !*member));
+}
+
+/// Hostile systems through HTTP: twelve coordinates of long formulas run (200); a constraint
+/// that loses rank during a run ends that run as failed, with the step and t, not the request.
+#[tokio::test]
+async fn hostile_general_systems_get_answers_not_5xx() {
+    let s = TestServer::start().await;
+    let names: Vec<String> = (1..=12).map(|i| format!("q{i}")).collect();
+    let potential: String = (1..=12)
+        .map(|i| format!("{i}*q{i}^2/2 + cos(q{i})*q{}^2/(10 + q{i}^2)", i % 12 + 1))
+        .collect::<Vec<_>>()
+        .join(" + ");
+    let row = |k: usize| -> Vec<String> {
+        (1..=12)
+            .map(|i| match i {
+                _ if i == k => "1".to_owned(),
+                _ if i == k + 1 => format!("sin(q{})", k + 2),
+                _ => "0".to_owned(),
+            })
+            .collect()
+    };
+    let q: Vec<f64> = (0..12).map(|i| 0.1 * f64::from(i)).collect();
+    let mut v = vec![0.0; 12];
+    v[11] = 1.0;
+    let body = json!({"system": {"coordinates": names, "potential": potential,
+                                  "constraints": (1..=5).map(row).collect::<Vec<_>>()},
+                      "q": q, "v": v, "step": 0.05, "t_end": 5,
+                      "methods": ["dla", "dd", "rk4", "rattle", {"id": "spark", "stages": 3}]});
+    let (status, answer) = s.post_json("/simulate", &body).await;
+    assert_eq!(status, 200, "{answer}");
+    for run in answer["runs"].as_array().unwrap() {
+        assert_eq!(run["status"], "ok", "{run}");
+    }
+    // ẋ cos θ = 0 while θ turns at speed 1: A loses rank at t = π/2.
+    let body = json!({"system": {"coordinates": ["x", "theta", "z"], "potential": "0",
+                                  "constraints": [["cos(theta)", "0", "0"]], "detect_class": false},
+                      "q": [0, 0, 0], "v": [0, 1, 0.5], "step": 0.01, "t_end": 3,
+                      "methods": ["dla", "rattle", "rk4"]});
+    let (status, answer) = s.post_json("/simulate", &body).await;
+    assert_eq!(status, 200, "{answer}");
+    for run in answer["runs"].as_array().unwrap() {
+        assert_eq!(run["status"], "failed", "{run}");
+        let error = run["error"].to_string();
+        assert!(error.contains("rank") && error.contains("t = 1.5"), "{error}");
+    }
 }
 
 /// Work–precision on the vertical disk measures against its exact solution.

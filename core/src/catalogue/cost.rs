@@ -87,6 +87,10 @@ pub fn step_ns(system: &SceneSystem, method: &Method) -> f64 {
     }
 }
 
+/// SPARK's nanoseconds per step on a built-in, s = 2 … 5: measured at most 626, 1372, 2599
+/// and 4495 (the vertical disk, release build), about 1.4× that on the test profile.
+const SPARK_NS: [f64; 4] = [2000.0, 4000.0, 7000.0, 11000.0];
+
 /// Nanoseconds per step of `method` on a built-in: the slowest built-in's, measured (a
 /// run's step with its integrals, on the test profile, slower than the release build), times
 /// about 1.5. A system given as formulas adds its evaluations to it.
@@ -102,6 +106,8 @@ pub fn built_in_ns(method: &Method) -> f64 {
         BaseMethod::DdAvf(_) => 800.0,
         // 467 (the sleigh).
         BaseMethod::Rk4(_) => 700.0,
+        // Newton on (s − 1)(N + R) unknowns through a Schur complement of (s − 1)R.
+        BaseMethod::Spark(m) => SPARK_NS[usize::from(m.stages.clamp(2, 5)) - 2],
         BaseMethod::ReferenceStep(_) => REFERENCE_EVALUATIONS * 200.0,
         // A call into Python and a few numpy operations: microseconds, whatever the system.
         BaseMethod::External(_) => EXTERNAL_NS,
@@ -150,6 +156,12 @@ impl Evaluations {
             // Counted 4 potentials, 5 gradients, 2 Hessians (5 driver terms).
             (BaseMethod::Dd(_), false) => (6.0, 7.5, 3.0, 7.5),
             (BaseMethod::Dd(_), true) => (4.5, 4.5, 3.0, 0.0),
+            // Counted 2(s − 1) + 1 forces and s derivatives a step (two iterations, the end
+            // point); taken at 4(s − 1), for the steps that iterate more.
+            (BaseMethod::Spark(m), _) => {
+                let s = f64::from(m.stages);
+                (1.0, 4.0 * (s - 1.0), s, 0.0)
+            }
             // Counted 1, 7, 6 (8.6 driver terms): quadrature in the passenger.
             (BaseMethod::DdAvf(_), _) => (1.0, 10.5, 9.0, 13.0),
         };

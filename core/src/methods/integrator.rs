@@ -23,7 +23,7 @@ pub struct MethodInfo {
     /// Whether the step solves a nonlinear system (Newton).
     pub implicit: bool,
     /// The order its symmetric compositions reach where it is below the scheme's (measured,
-    /// `docs/compositions.md`): LF carries λ and the DD family's q̇ leaves the constraint
+    /// `docs/high-order.md`): LF carries λ and the DD family's q̇ leaves the constraint
     /// manifold between steps, so their compositions stop at 4 (DD's q̇ itself at 2).
     pub composed_order_limit: Option<u32>,
     /// Why the method has no step for the general class (`docs/model.md` §3), if it has none:

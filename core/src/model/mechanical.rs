@@ -201,14 +201,23 @@ pub trait Mechanical<const N: usize, const R: usize>: Send + Sync {
     /// `M q̈ = −∇V + Aᵀλ` and `A q̈ + (∂(A q̇)/∂q) q̇ = 0`; `None` when `A M⁻¹ Aᵀ` is singular.
     #[inline]
     fn acceleration(&self, q: &Vector<N>, v: &Vector<N>) -> Option<(Vector<N>, Vector<R>)> {
-        let f = self.forces(q);
-        let a_dot_v = self.derivatives(q).constraint_jacobian(v) * v;
-        let mass = self.mass();
-        let m_at = mass.solve_columns(&f.constraint.transpose());
-        let m_g = mass.solve(&f.gradient);
-        let lambda = linalg::solve(&(f.constraint * m_at), &(f.constraint * m_g - a_dot_v))?;
-        Some((m_at * lambda - m_g, lambda))
+        acceleration_at(self.mass(), &self.forces(q), &self.derivatives(q), v)
     }
+}
+
+/// [`Mechanical::acceleration`] from the forces and derivatives at q, where a step has them.
+#[inline]
+pub fn acceleration_at<const N: usize, const R: usize>(
+    mass: &Mass<N>,
+    f: &Forces<N, R>,
+    d: &Derivatives<N, R>,
+    v: &Vector<N>,
+) -> Option<(Vector<N>, Vector<R>)> {
+    let a_dot_v = d.constraint_jacobian(v) * v;
+    let m_at = mass.solve_columns(&f.constraint.transpose());
+    let m_g = mass.solve(&f.gradient);
+    let lambda = linalg::solve(&(f.constraint * m_at), &(f.constraint * m_g - a_dot_v))?;
+    Some((m_at * lambda - m_g, lambda))
 }
 
 /// A system of the general class compiled into nhlab: its description, and its

@@ -52,7 +52,10 @@ std::thread_local! {
 }
 
 #[inline]
-fn counted<T>(iterations: u32, result: Result<T, StepFailure>) -> Result<T, StepFailure> {
+pub(crate) fn counted<T>(
+    iterations: u32,
+    result: Result<T, StepFailure>,
+) -> Result<T, StepFailure> {
     ITERATIONS.with(|c| c.set(c.get() + u64::from(iterations)));
     result
 }

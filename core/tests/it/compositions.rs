@@ -25,7 +25,7 @@ const FLOOR: f64 = 2e-12;
 fn composed() -> Vec<Method> {
     let symmetric: Vec<Method> = Method::all().into_iter().filter(|m| m.base.symmetric()).collect();
     let ids: Vec<&str> = symmetric.iter().map(|m| m.info().id).collect();
-    assert_eq!(ids, ["dla", "dla01", "leapfrog", "dd", "dd_avf", "rattle"]);
+    assert_eq!(ids, ["dla", "dla01", "leapfrog", "dd", "dd_avf", "rattle", "spark"]);
     symmetric.into_iter().flat_map(|m| Composition::ALL.map(|c| m.composed(c).unwrap())).collect()
 }
 
@@ -104,7 +104,7 @@ fn tolerance(order: u32) -> f64 {
     }
 }
 
-/// The orders measured, and on what (`docs/compositions.md`, "Orders").
+/// The orders measured, and on what (`docs/high-order.md`, "Orders").
 ///
 /// - DLA^½ and DLA^{0,1} reach every composition's order in q and q̇.
 /// - The leap-frog reaches order 4 with every composition, not 6 or 8. Its step carries λ
@@ -121,7 +121,8 @@ fn measured(m: &Method) -> (u32, On) {
     let measured = match m.info().id {
         "leapfrog" => (4, On::State),
         "dd" | "dd_avf" => (4, On::Projected),
-        _ => (c.order(), On::State),
+        // SPARK (order 4 with its default 3 stages) keeps its own order under p4s3 and p4s5.
+        _ => (c.order().max(m.base.order()), On::State),
     };
     assert_eq!(m.order(), measured.0, "{}: the order it declares", m.label());
     measured
@@ -148,7 +149,12 @@ fn check<S: System<N, R>, const N: usize, const R: usize>(
         // On the CVT, DLA^½∘p8s15's slope falls towards 8 as h shrinks (8.40 over errors down
         // to 7e-12, 8.31 down to 7e-13) but is still above 8.3 where the reference resolves
         // the error: its leading error term is small there. Measured, so asserted as such.
-        let slack = if name == "cvt" && m.label() == "DLA^0.5∘p8s15" { 0.1 } else { 0.0 };
+        // SPARK3∘p8s15 reads 8.54 there: its base is of order 4, its leading term smaller still.
+        let slack = match (name, m.label().as_str()) {
+            ("cvt", "DLA^0.5∘p8s15") => 0.1,
+            ("cvt", "SPARK3∘p8s15") => 0.3,
+            _ => 0.0,
+        };
         check_one(order, on, tolerance(order) + slack, 20);
         if on == On::Projected {
             // The component off the manifold: order 2 in q̇ whatever the composition.

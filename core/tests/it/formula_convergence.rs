@@ -56,7 +56,8 @@ fn every_method_converges_at_its_order_on_a_system_given_as_formulas() {
             hs.push(h);
             errors.push((st.q - exact.q).amax().max((st.v - exact.v).amax()));
         }
-        let p = common::slope(&hs, &errors, 1e-10);
+        // The reference is good to about 1e-12: SPARK3 (order 4) reaches 7e-11 at 160 steps.
+        let p = common::slope(&hs, &errors, 2e-11);
         let shown: Vec<String> = errors.iter().map(|e| format!("{e:.2e}")).collect();
         println!("{}: order {p:.3}, errors {shown:?}", m.label());
         assert!((p - order).abs() <= 0.15, "{}: order {p}, expected {order}", m.label());

@@ -31,6 +31,7 @@ mod props;
 mod quadratic_shortcuts;
 mod reference;
 mod reference_bounds;
+mod spark;
 mod stress;
 mod structure;
 mod work_precision;

@@ -237,6 +237,10 @@ pub struct PresetView {
     pub step: f64,
     /// Final time.
     pub t_end: f64,
+    /// Whether its scene is in the paper's class (its parameters may take the system out of
+    /// it: the system's `paper_class` is at the defaults); the class-only methods apply only
+    /// where it is.
+    pub paper_class: bool,
 }
 
 /// A method.
@@ -257,7 +261,7 @@ pub struct MethodInfoView {
     /// Whether it may take a `composition`: its step is symmetric (DLA^α at α = 0.5 only).
     pub composable: bool,
     /// The order its compositions reach where below the scheme's order (measured: LF, DD and
-    /// DD-AVF stop at 4; `docs/compositions.md`); absent where they reach it.
+    /// DD-AVF stop at 4; `docs/high-order.md`); absent where they reach it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub composed_order_limit: Option<u32>,
     /// Whether it is a measuring instrument rather than a method under study: `reference`,
@@ -328,8 +332,13 @@ impl ParamView {
 }
 
 impl PresetView {
-    fn of(p: &Preset) -> Self {
+    fn of(system: &str, p: &Preset) -> Self {
+        let req =
+            SceneRequest { system: system.into(), preset: Some(p.id.into()), ..Default::default() };
+        // Every built-in's presets resolve (core's `tests/it/inputs.rs`).
+        let scene = Scene::resolve(&req).expect("a built-in's preset");
         Self {
+            paper_class: scene.system.in_paper_class(),
             id: p.id.into(),
             label: p.label.into(),
             params: p.params.iter().map(|&(n, v)| (n.to_owned(), v)).collect(),
@@ -367,7 +376,7 @@ impl SystemView {
                 .iter()
                 .map(|&i| prepared.integral_name(i))
                 .collect(),
-            presets: info.presets.iter().map(PresetView::of).collect(),
+            presets: info.presets.iter().map(|p| PresetView::of(info.id, p)).collect(),
             formulas: FormulaSpec::of(info).as_ref().map(FormulaSystem::of),
             general: GeneralSystem::of(&general),
             paper_class,

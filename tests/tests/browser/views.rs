@@ -128,7 +128,10 @@ pub(crate) async fn scorecard_view(
     let report = js(client, SCORECARD_REPORT).await?;
     let rows = report["rows"].as_array().ok_or("no rows")?;
     let labels: Vec<&str> = rows.iter().map(|r| r["method"].as_str().unwrap_or("?")).collect();
-    assert_eq!(labels, ["DLA^0.5", "DLA^0.4", "DLA^{0,1}", "LF", "DD", "DD-AVF", "RK4", "RATTLE"]);
+    assert_eq!(
+        labels,
+        ["DLA^0.5", "DLA^0.4", "DLA^{0,1}", "LF", "DD", "DD-AVF", "RK4", "RATTLE", "SPARK3"]
+    );
     let systems = js(client, "return fetch('systems').then((r) => r.json());").await?;
     let scenes: Vec<String> = ["paper_scenes", "literature_scenes"]
         .iter()
@@ -210,7 +213,7 @@ pub(crate) async fn scorecard_view(
     let url = opened[0].as_str().unwrap_or_default();
     assert!(url.contains("system=cvt_pendulum") && url.contains("preset=rotating"), "{opened}");
     assert_eq!(opened[1], json!(false), "the main view is shown: {opened}");
-    assert_eq!(opened[2], json!(8), "the scorecard's eight methods ran: {opened}");
+    assert_eq!(opened[2], json!(9), "the scorecard's nine methods ran: {opened}");
     screenshot(client, "scorecard-opened.png").await;
     console_clean(driver, client, "scorecard cell").await?;
 
@@ -229,10 +232,10 @@ pub(crate) async fn scorecard_view(
         "return [...document.querySelectorAll('#runs tr.run th')].map((th) => th.textContent);",
     )
     .await?;
-    assert_eq!(opened.as_array().map(Vec::len), Some(7), "every method but DD-AVF: {opened}");
+    assert_eq!(opened.as_array().map(Vec::len), Some(8), "every method but DD-AVF: {opened}");
     assert!(!opened.to_string().contains("DD-AVF"), "{opened}");
     console_clean(driver, client, "scorecard sleigh cell").await?;
-    println!("scorecard view: 8 methods × 13 scenes, n/a outside the class; screenshot {shot}");
+    println!("scorecard view: 9 methods × 13 scenes, n/a outside the class; screenshot {shot}");
     Ok(())
 }
 
