@@ -180,7 +180,8 @@ impl<const S: usize, const N: usize, const R: usize, M: Mechanical<N, R>> Stages
         }
     }
 
-    /// Newton on (Q_2 … Q_s, Z_1 … Z_{s−1}); leaves the iterate evaluated at the solution.
+    /// Newton on (Q_2 … Q_s, Z_1 … Z_{s−1}); leaves the kicks and stage velocities at the solution
+    /// (the last increment taken to first order, [`Self::follow`]).
     /// The Jacobian's pieces are those of the first iterate, kept while the iteration
     /// contracts fast and taken afresh where it does not.
     fn solve(
