@@ -184,6 +184,15 @@ pub enum InputError {
         /// What is wrong and what is allowed.
         message: String,
     },
+    /// A `prk` method's tableau or constraint that no step can be built from, or given to
+    /// another method.
+    #[error("{message}")]
+    Tableau {
+        /// Field path, e.g. `methods[0].tableau.b`.
+        field: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
     /// A system given as formulas is malformed or leaves the class of `docs/model.md` §1
     /// (sizes, names, a constraint matrix without full rank at the start).
     #[error("{message}")]
@@ -208,6 +217,7 @@ impl InputError {
             | Self::UnknownMethod { field, .. }
             | Self::Formula { field, .. }
             | Self::Composition { field, .. }
+            | Self::Tableau { field, .. }
             | Self::NotApplicable { field, .. }
             | Self::CustomSystem { field, .. } => field.clone(),
             Self::UnknownPreset { .. } => "preset".into(),
@@ -226,6 +236,7 @@ impl InputError {
             | Self::ParamOutOfRange { field, .. }
             | Self::NonFinite { field, .. }
             | Self::Composition { field, .. }
+            | Self::Tableau { field, .. }
             | Self::UnknownMethod { field, .. } => *field = format!("{prefix}.{field}"),
             Self::NotApplicable { field, .. } => *field = prefix.to_string(),
             _ => {}

@@ -268,6 +268,27 @@ pub(crate) fn lu_solve_in_place(a: &[f64], d: usize, swaps: &[usize], b: &mut [f
     }
 }
 
+/// A dense Newton system of any size d, kept per thread by the steps that
+/// need one: the Jacobian (row by row), its row swaps, the residual.
+#[derive(Default)]
+pub(crate) struct Scratch {
+    jacobian: Vec<f64>,
+    swaps: Vec<usize>,
+    residual: Vec<f64>,
+}
+
+impl Scratch {
+    /// The first `d·d`, `d` and `d` entries, grown to them if need be.
+    pub(crate) fn sized(&mut self, d: usize) -> (&mut [f64], &mut [usize], &mut [f64]) {
+        if self.residual.len() < d {
+            self.jacobian.resize(d * d, 0.0);
+            self.swaps.resize(d, 0);
+            self.residual.resize(d, 0.0);
+        }
+        (&mut self.jacobian[..d * d], &mut self.swaps[..d], &mut self.residual[..d])
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -17,6 +17,7 @@ pub use composition::{Composed, Composition};
 pub use general_memory::GeneralMemory;
 pub use integrator::{GeneralStepper, Integrator, MethodInfo, Stepper, SymmetricAt};
 pub use memory::{Memory, Recall};
+pub use prk::TableauChoice;
 
 use crate::model::mechanical::Mechanical;
 use crate::model::params::resolve_params;
@@ -44,6 +45,11 @@ macro_rules! methods {
 
         /// A method of the list with its parameters, before any composition.
         #[derive(Debug, Clone, Copy, PartialEq)]
+        #[allow(
+            clippy::large_enum_variant,
+            reason = "a prk method holds its tableau inline, so that a method stays a Copy value; \
+                      a run copies it once, never per step"
+        )]
         pub enum BaseMethod {
             $(
                 #[doc = concat!("[`", stringify!($variant), "`]")]
@@ -84,10 +90,11 @@ macro_rules! methods {
         }
 
         impl BaseMethod {
-            fn build(id: &str, params: &[f64]) -> Option<Result<Self, InputError>> {
+            fn build(spec: &MethodSpec, params: &[f64]) -> Option<Result<Self, InputError>> {
                 $(
-                    if id == <$variant as Integrator>::info().id {
-                        return Some($variant::from_params(params).map(BaseMethod::$variant));
+                    if spec.id == <$variant as Integrator>::info().id {
+                        let built = $variant::from_parts(params, spec.tableau.as_ref(), spec.constraint.as_deref());
+                        return Some(built.map(BaseMethod::$variant));
                     }
                 )*
                 None
@@ -201,6 +208,7 @@ methods!(
     rk4::Rk4,
     rattle::Rattle,
     spark::Spark,
+    prk::Prk,
     reference_step::ReferenceStep,
     external::External,
 );
@@ -259,6 +267,7 @@ impl Method {
             let why = match self.base {
                 BaseMethod::Dla(_) => "DLA^α is symmetric only for α = 0.5",
                 BaseMethod::External(_) => "it does not declare itself symmetric",
+                BaseMethod::Prk(p) => p.asymmetry().unwrap_or("its step is not symmetric"),
                 _ => "its step is not symmetric",
             };
             return Err(InputError::Composition {
@@ -290,6 +299,10 @@ pub struct MethodSpec {
     pub params: Vec<(String, f64)>,
     /// Composition id (`p4s3`, …), if any.
     pub composition: Option<String>,
+    /// A `prk` method's tableau, if given.
+    pub tableau: Option<TableauChoice>,
+    /// A `prk` method's constraint (`stage`, `end`, `midpoint`), if given.
+    pub constraint: Option<String>,
 }
 
 impl MethodSpec {
@@ -326,7 +339,7 @@ impl Method {
         let given = spec.params.iter().map(|(name, value)| (name.as_str(), *value, true));
         let owner = format!("method {}", info.id);
         let values = resolve_params(info.params, given, "", &owner)?;
-        let method = Method::from(BaseMethod::build(info.id, &values).expect("found the id")?);
+        let method = Method::from(BaseMethod::build(spec, &values).expect("found the id")?);
         let Some(id) = &spec.composition else { return Ok(method) };
         let composition = Composition::from_id(id).ok_or_else(|| InputError::Composition {
             field: "composition".into(),
@@ -351,11 +364,13 @@ impl Method {
 
     /// Every method of the list with its default parameters, the paper's five first (so
     /// DLA^α twice, at α = ½ and 0.4): what the scorecard, the benchmarks and the tools run.
-    /// The instruments ([`MethodInfo::instrument`]: the reference) and the methods written
-    /// outside nhlab ([`MethodInfo::external`]) are not among them.
+    /// The instruments ([`MethodInfo::instrument`]: the reference), the methods written
+    /// outside nhlab ([`MethodInfo::external`]) and the family given by tableaux
+    /// ([`MethodInfo::by_tableau`]) are not among them.
     pub fn all() -> Vec<Method> {
         let mut out = Self::paper_five().to_vec();
-        for info in method_infos().into_iter().filter(|info| !info.instrument && !info.external) {
+        let listed = |info: &&MethodInfo| !info.instrument && !info.external && !info.by_tableau;
+        for info in method_infos().into_iter().filter(listed) {
             if !out.iter().any(|m| m.info().id == info.id) {
                 // A listed id with its defaults always builds.
                 out.extend(Self::from_spec(&MethodSpec::new(info.id)));

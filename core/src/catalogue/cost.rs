@@ -77,7 +77,7 @@ pub fn run_cost_of(system: &SceneSystem, method: &Method, steps: f64) -> RunCost
 
 /// Nanoseconds per step (per sub-step of a composition) of `method` on `system`.
 pub fn step_ns(system: &SceneSystem, method: &Method) -> f64 {
-    let base = built_in_ns(method);
+    let base = built_in_ns(method) + dense_solve_ns(system.dof(), method);
     match system.formulas() {
         None => base,
         Some(custom) => {
@@ -90,6 +90,20 @@ pub fn step_ns(system: &SceneSystem, method: &Method) -> f64 {
 /// SPARK's nanoseconds per step on a built-in, s = 2 … 5: measured at most 626, 1372, 2599
 /// and 4495 (the vertical disk, release build), about 1.4× that on the test profile.
 const SPARK_NS: [f64; 4] = [2000.0, 4000.0, 7000.0, 11000.0];
+
+/// Iterations a `prk` step is priced at: its Newton iterations (3–4 measured) and room.
+const PRK_ITERATIONS: f64 = 6.0;
+
+/// Nanoseconds a step of `prk` spends on its dense Newton system, of size s·(N + R) ≤ 2sN
+/// for N coordinates: an LU (d³/3 multiply–adds) and the Jacobian's assembly (s²N³) per
+/// iteration, at a nanosecond each; 0 for the other methods, whose systems are small and
+/// fixed-size (priced in [`built_in_ns`]).
+fn dense_solve_ns(dof: usize, method: &Method) -> f64 {
+    let BaseMethod::Prk(m) = method.base else { return 0.0 };
+    let (s, n) = (m.tableau.stages as f64, dof as f64);
+    let d = 2.0 * s * n;
+    PRK_ITERATIONS * (d * d * d / 3.0 + s * s * n * n * n)
+}
 
 /// Nanoseconds per step of `method` on a built-in: the slowest built-in's, measured (a
 /// run's step with its integrals, on the test profile, slower than the release build), times
@@ -108,6 +122,8 @@ pub fn built_in_ns(method: &Method) -> f64 {
         BaseMethod::Rk4(_) => 700.0,
         // Newton on (s − 1)(N + R) unknowns through a Schur complement of (s − 1)R.
         BaseMethod::Spark(m) => SPARK_NS[usize::from(m.stages.clamp(2, 5)) - 2],
+        // Its dense solve is priced by size ([`dense_solve_ns`]); this is the rest.
+        BaseMethod::Prk(m) => 1500.0 * m.tableau.stages as f64,
         BaseMethod::ReferenceStep(_) => REFERENCE_EVALUATIONS * 200.0,
         // A call into Python and a few numpy operations: microseconds, whatever the system.
         BaseMethod::External(_) => EXTERNAL_NS,
@@ -161,6 +177,11 @@ impl Evaluations {
             (BaseMethod::Spark(m), _) => {
                 let s = f64::from(m.stages);
                 (1.0, 4.0 * (s - 1.0), s, 0.0)
+            }
+            // s forces and derivatives per iteration and once more at the solution.
+            (BaseMethod::Prk(m), _) => {
+                let s = m.tableau.stages as f64;
+                (1.0, (PRK_ITERATIONS + 1.0) * s, (PRK_ITERATIONS + 1.0) * s, 0.0)
             }
             // Counted 1, 7, 6 (8.6 driver terms): quadrature in the passenger.
             (BaseMethod::DdAvf(_), _) => (1.0, 10.5, 9.0, 13.0),

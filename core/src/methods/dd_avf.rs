@@ -60,6 +60,7 @@ static INFO: MethodInfo = MethodInfo {
     instrument: false,
     symmetric_at: None,
     external: false,
+    by_tableau: false,
 };
 
 /// Gauss–Legendre nodes and weights on [0, 1].

@@ -58,6 +58,7 @@ static INFO: MethodInfo = MethodInfo {
     instrument: false,
     symmetric_at: Some(SymmetricAt { param: "alpha", value: 0.5, order_elsewhere: 1 }),
     external: false,
+    by_tableau: false,
 };
 
 impl Integrator for Dla {

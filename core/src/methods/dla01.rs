@@ -48,6 +48,7 @@ static INFO: MethodInfo = MethodInfo {
     instrument: false,
     symmetric_at: None,
     external: false,
+    by_tableau: false,
 };
 
 impl Integrator for Dla01 {

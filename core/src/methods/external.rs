@@ -131,6 +131,7 @@ static INFO: MethodInfo = MethodInfo {
     instrument: false,
     symmetric_at: None,
     external: true,
+    by_tableau: false,
 };
 
 impl Integrator for External {

@@ -3,6 +3,7 @@
 
 use super::general_memory::GeneralMemory;
 use super::memory::Memory;
+use super::prk::TableauChoice;
 use crate::model::mechanical::Mechanical;
 use crate::model::system::{ParamSpec, System};
 use crate::{InputError, State, StepFailure};
@@ -42,6 +43,12 @@ pub struct MethodInfo {
     /// server none; never among the defaults or the cross-product tests, and not offered
     /// by the page.
     pub external: bool,
+    /// Whether it is a family whose members are given by their tableaux
+    /// ([`Prk`](super::Prk)): asked for with a tableau, and not among
+    /// [`Method::all`](crate::Method::all), the scorecard's and benchmarks' methods (SPARK is
+    /// its fast member on the Lobatto pairs); the cross-product tests take it with its
+    /// default tableau.
+    pub by_tableau: bool,
 }
 
 /// The one parameter value at which a method's step is symmetric ([`MethodInfo::symmetric_at`]).
@@ -94,6 +101,26 @@ pub trait Integrator: Stepper + GeneralStepper {
     fn info() -> &'static MethodInfo;
     /// Builds it from parameter values in the order of `info().params`, already range-checked.
     fn from_params(params: &[f64]) -> Result<Self, InputError>;
+    /// Builds it from parameter values and what a request gives beside them, a tableau and a
+    /// constraint, which only [`Prk`](super::Prk) takes: the others refuse them.
+    fn from_parts(
+        params: &[f64],
+        tableau: Option<&TableauChoice>,
+        constraint: Option<&str>,
+    ) -> Result<Self, InputError> {
+        let field = match (tableau, constraint) {
+            (None, None) => return Self::from_params(params),
+            (Some(_), _) => "tableau",
+            (None, Some(_)) => "constraint",
+        };
+        Err(InputError::Tableau {
+            field: field.into(),
+            message: format!(
+                "method {} takes no {field}: only prk is given a tableau and a constraint",
+                Self::info().id
+            ),
+        })
+    }
     /// Its parameter values, in the order of `info().params`.
     fn params(&self) -> Vec<f64> {
         Vec::new()

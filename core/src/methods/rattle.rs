@@ -38,6 +38,7 @@ static INFO: MethodInfo = MethodInfo {
     instrument: false,
     symmetric_at: None,
     external: false,
+    by_tableau: false,
 };
 
 impl Integrator for Rattle {

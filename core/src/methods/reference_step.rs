@@ -35,6 +35,7 @@ static INFO: MethodInfo = MethodInfo {
     instrument: true,
     symmetric_at: None,
     external: false,
+    by_tableau: false,
 };
 
 impl Integrator for ReferenceStep {

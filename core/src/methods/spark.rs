@@ -18,7 +18,7 @@
 //! system it runs through the general form.
 
 mod general;
-mod tableau;
+pub(crate) mod tableau;
 
 use crate::methods::general_memory::GeneralMemory;
 use crate::methods::integrator::{GeneralStepper, Integrator, MethodInfo, Stepper};
@@ -70,6 +70,7 @@ static INFO: MethodInfo = MethodInfo {
     instrument: false,
     symmetric_at: None,
     external: false,
+    by_tableau: false,
 };
 
 impl Integrator for Spark {

@@ -26,6 +26,7 @@ mod latitude;
 mod newton_stopping;
 mod paper_table;
 mod parametric;
+mod prk;
 mod properties;
 mod props;
 mod quadratic_shortcuts;

@@ -23,7 +23,7 @@ fn spark(stages: u8) -> Method {
 /// error is below 10^{−1−order/2}, step counts growing by 10^{1/(2·order)} (half a decade of
 /// error each) until the error reaches the floor; the slope over those points. Infinite
 /// where two steps are exact to round-off already (the rolling disk's q̇).
-fn observed(order: u32, t_end: f64, err: impl Fn(u32) -> f64) -> (f64, Vec<(u32, f64)>) {
+pub(crate) fn observed(order: u32, t_end: f64, err: impl Fn(u32) -> f64) -> (f64, Vec<(u32, f64)>) {
     if err(2) <= FLOOR {
         return (f64::INFINITY, vec![(2, err(2))]);
     }
@@ -98,7 +98,7 @@ fn spark_reaches_order_2s_minus_2_on_the_rolling_disk() {
 }
 
 /// The sleigh's first preset, from a consistent start.
-fn sleigh() -> (ChaplyginSleigh, State<3, 1>) {
+pub(crate) fn sleigh() -> (ChaplyginSleigh, State<3, 1>) {
     let info = <ChaplyginSleigh as GeneralBuiltIn<3, 1>>::info();
     let p = &info.presets[0];
     let sys = <ChaplyginSleigh as GeneralBuiltIn<3, 1>>::new(&info.preset_params(p));

@@ -424,11 +424,18 @@ pub fn method(i: usize, m: &MethodRequest) -> Result<Method, AppError> {
         id: m.id.clone(),
         params: m.params.clone(),
         composition: m.composition.clone(),
+        tableau: m.tableau.clone(),
+        constraint: m.constraint.clone(),
     };
     Method::from_spec(&spec).map_err(|e| {
         // A parameter's error points into `params` where it was given there.
         let in_params = m.nested
-            && !matches!(e, InputError::UnknownMethod { .. } | InputError::Composition { .. });
+            && !matches!(
+                e,
+                InputError::UnknownMethod { .. }
+                    | InputError::Composition { .. }
+                    | InputError::Tableau { .. }
+            );
         let e = if in_params { e.within("params") } else { e };
         AppError::from(e.within(&format!("methods[{i}]")))
     })

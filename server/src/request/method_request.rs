@@ -1,7 +1,9 @@
 //! [`MethodRequest`]: one method of a request, as an id string or an object with its
 //! parameters beside the id or in a `params` object; a parameter given twice is refused.
 
+use crate::request::TableauField;
 use crate::request::params::{Params, push_param};
+use nhlab_core::methods::TableauChoice;
 use serde::Deserialize;
 use serde::de::{self, MapAccess, Visitor};
 use std::collections::HashSet;
@@ -11,7 +13,8 @@ use std::fmt;
 /// "alpha": 0.4}`, as responses echo it) or in a `params` object (`{"id": "dla", "params":
 /// {"alpha": 0.4}}`, as a scene's parameters and `GET /systems` put them); a bare string is
 /// the method with its defaults. `"composition": "p4s3"` beside the id takes a symmetric
-/// method as that composition of its steps.
+/// method as that composition of its steps. A `prk` method takes `"tableau"` (a stored
+/// tableau's id or the tableau) and `"constraint"` beside its id.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct MethodRequest {
     /// Method id.
@@ -22,6 +25,10 @@ pub struct MethodRequest {
     pub nested: bool,
     /// The composition it is taken in (`"p4s3"`, …), if any.
     pub composition: Option<String>,
+    /// A `prk` method's tableau, if given.
+    pub tableau: Option<TableauChoice>,
+    /// A `prk` method's constraint, if given.
+    pub constraint: Option<String>,
 }
 
 impl MethodRequest {
@@ -46,7 +53,7 @@ impl<'de> Visitor<'de> for MethodVisitor {
         f.write_str(
             "a method: an id string, or an object {\"id\": \"dla\", \"alpha\": 0.4} or \
              {\"id\": \"dla\", \"params\": {\"alpha\": 0.4}}, optionally with \
-             \"composition\": \"p4s3\"",
+             \"composition\": \"p4s3\" (and for prk \"tableau\" and \"constraint\")",
         )
     }
 
@@ -56,6 +63,7 @@ impl<'de> Visitor<'de> for MethodVisitor {
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<MethodRequest, A::Error> {
         let (mut id, mut flat, mut nested, mut composition) = (None, Vec::new(), None, None);
+        let (mut tableau, mut constraint) = (None, None);
         let mut seen = HashSet::new();
         while let Some(key) = map.next_key::<String>()? {
             match key.as_str() {
@@ -67,6 +75,14 @@ impl<'de> Visitor<'de> for MethodVisitor {
                     return Err(de::Error::duplicate_field("composition"));
                 }
                 "composition" => composition = Some(map.next_value::<String>()?),
+                "tableau" if tableau.is_some() => {
+                    return Err(de::Error::duplicate_field("tableau"));
+                }
+                "tableau" => tableau = Some(map.next_value::<TableauField>()?.0),
+                "constraint" if constraint.is_some() => {
+                    return Err(de::Error::duplicate_field("constraint"));
+                }
+                "constraint" => constraint = Some(map.next_value::<String>()?),
                 _ => {
                     let value = map.next_value::<f64>()?;
                     push_param(&mut flat, &mut seen, key, value)?;
@@ -75,9 +91,14 @@ impl<'de> Visitor<'de> for MethodVisitor {
         }
         let id = id.ok_or_else(|| de::Error::missing_field("id"))?;
         match nested {
-            None => Ok(MethodRequest { composition, ..MethodRequest::new(&id, flat) }),
+            None => Ok(MethodRequest {
+                composition,
+                tableau,
+                constraint,
+                ..MethodRequest::new(&id, flat)
+            }),
             Some(params) if flat.is_empty() => {
-                Ok(MethodRequest { id, params, nested: true, composition })
+                Ok(MethodRequest { id, params, nested: true, composition, tableau, constraint })
             }
             Some(_) => Err(de::Error::custom(format!(
                 "give the parameters of method {id} either beside its id or in `params`, not both"

@@ -18,6 +18,7 @@ mod section;
 mod simulate_request;
 mod sweep_request;
 mod system_field;
+mod tableau_field;
 mod work_precision_request;
 
 pub use method_request::MethodRequest;
@@ -31,4 +32,6 @@ pub use simulate_request::SimulateRequest;
 pub(crate) use simulate_request::scene_body;
 pub use sweep_request::{AxisRequest, SweepRequest};
 pub use system_field::{FormulaSystem, GeneralSystem, MassField, SystemField};
+pub(crate) use tableau_field::TableauField;
+pub use tableau_field::tableau_value;
 pub use work_precision_request::WorkPrecisionRequest;

@@ -399,8 +399,14 @@ pub fn cell_values(axes: &[Axis], mut c: usize) -> Vec<f64> {
 /// A method as a request gives it.
 pub fn request_of(m: &Method) -> MethodRequest {
     let params = m.params().into_iter().map(|(n, v)| (n.to_owned(), v)).collect();
+    let prk = match &m.base {
+        nhlab_core::BaseMethod::Prk(p) => Some(p),
+        _ => None,
+    };
     MethodRequest {
         composition: m.composition.map(|c| c.id().to_owned()),
+        tableau: prk.map(crate::views::TableauEcho::choice),
+        constraint: prk.map(|p| p.constraint.id().to_owned()),
         ..MethodRequest::new(m.info().id, params)
     }
 }

@@ -206,6 +206,12 @@ fn method_body(m: &MethodRequest) -> BTreeMap<String, Value> {
     if let Some(c) = &m.composition {
         out.insert("composition".into(), Value::from(c.clone()));
     }
+    if let Some(t) = &m.tableau {
+        out.insert("tableau".into(), crate::request::tableau_value(t));
+    }
+    if let Some(c) = &m.constraint {
+        out.insert("constraint".into(), Value::from(c.clone()));
+    }
     out
 }
 
@@ -215,6 +221,8 @@ fn view_of(m: &MethodRequest) -> MethodView {
         id: m.id.clone(),
         params: m.params.iter().cloned().collect(),
         composition: m.composition.clone(),
+        tableau: None,
+        constraint: m.constraint.clone(),
         label: m.id.clone(),
     }
 }

@@ -20,6 +20,7 @@ mod simulate_response;
 mod status;
 mod sweep;
 mod systems;
+mod tableau;
 mod verdict;
 mod work_precision;
 
@@ -47,5 +48,6 @@ pub use systems::{
     LimitsView, MethodInfoView, PaperClassView, PaperScene, ParamView, PresetView, SystemView,
     SystemsResponse,
 };
+pub use tableau::{ConstraintView, StoredTableauView, TableauEcho, TableauView};
 pub use verdict::{CRITERION, VerdictView};
 pub use work_precision::{ReferenceView, WorkPrecisionResponse, WorkPrecisionRow};

@@ -5,9 +5,10 @@
 
 use crate::config::Config;
 use crate::request::{FormulaSystem, GeneralSystem};
-use crate::views::MethodView;
+use crate::views::{MethodView, StoredTableauView};
 use nhlab_core::catalogue::custom::SystemSpec;
 use nhlab_core::catalogue::registry::{LITERATURE_SCENES, PAPER_SECTION, PaperSection};
+use nhlab_core::methods::prk::stored::stored;
 use nhlab_core::model::custom::Structure;
 use nhlab_core::model::system::Form;
 use nhlab_core::{
@@ -31,6 +32,8 @@ pub struct SystemsResponse {
     /// The symmetric compositions a symmetric method may be taken in (a method's
     /// `composition`).
     pub compositions: Vec<CompositionView>,
+    /// The stored tableaux a `prk` method may name (`{"id": "prk", "tableau": "gauss2"}`).
+    pub tableaux: Vec<StoredTableauView>,
     /// The paper's six experiments (the scorecard's default scenes), in the paper's order.
     pub paper_scenes: Vec<PaperScene>,
     /// The literature's test problems beyond the paper's (the scorecard's further scenes).
@@ -435,6 +438,7 @@ impl SystemsResponse {
                     reference: c.reference().into(),
                 })
                 .collect(),
+            tableaux: stored().iter().map(StoredTableauView::of).collect(),
             paper_scenes: PAPER_SCENES
                 .iter()
                 .map(|(system, preset)| PaperScene {

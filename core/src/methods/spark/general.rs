@@ -21,33 +21,13 @@
 
 use super::Spark;
 use super::tableau::{LOBATTO2, LOBATTO3, LOBATTO4, LOBATTO5, Lobatto};
-use crate::linalg::{Lu, lu_in_place, lu_solve_in_place};
+use crate::linalg::{Lu, Scratch, lu_in_place, lu_solve_in_place};
 use crate::methods::general_memory::GeneralMemory;
 use crate::methods::integrator::GeneralStepper;
 use crate::model::mechanical::{Derivatives, Forces, Mechanical, acceleration_at};
 use crate::solver::newton::{NewtonConfig, counted};
 use crate::{Matrix, State, StepFailure, Vector};
 use std::cell::RefCell;
-
-/// A step's Newton system: the Jacobian (row by row), its row swaps, the residual.
-#[derive(Default)]
-struct Scratch {
-    jacobian: Vec<f64>,
-    swaps: Vec<usize>,
-    residual: Vec<f64>,
-}
-
-impl Scratch {
-    /// The first `d·d`, `d` and `d` entries, grown to them if need be.
-    fn sized(&mut self, d: usize) -> (&mut [f64], &mut [usize], &mut [f64]) {
-        if self.residual.len() < d {
-            self.jacobian.resize(d * d, 0.0);
-            self.swaps.resize(d, 0);
-            self.residual.resize(d, 0.0);
-        }
-        (&mut self.jacobian[..d * d], &mut self.swaps[..d], &mut self.residual[..d])
-    }
-}
 
 /// How an iteration's linear system is solved.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -8,9 +8,8 @@
 
 /// One pair: `S` stages.
 #[derive(Debug)]
-pub(super) struct Lobatto<const S: usize> {
+pub(crate) struct Lobatto<const S: usize> {
     /// Nodes c.
-    #[allow(dead_code, reason = "the step reads a and b; the tests check the tables with c")]
     pub c: [f64; S],
     /// Weights b.
     pub b: [f64; S],
@@ -45,7 +44,7 @@ impl<const S: usize> Lobatto<S> {
 }
 
 #[allow(clippy::excessive_precision, reason = "rounded once from 50 digits; kept as printed")]
-pub(super) const LOBATTO2: Lobatto<2> = Lobatto {
+pub(crate) const LOBATTO2: Lobatto<2> = Lobatto {
     aa: [[0.0; 2]; 2],
     c: [0.0, 1.00000000000000000000],
     b: [5.00000000000000000000e-1, 5.00000000000000000000e-1],
@@ -61,7 +60,7 @@ pub(super) const LOBATTO2: Lobatto<2> = Lobatto {
 .with_products();
 
 #[allow(clippy::excessive_precision, reason = "rounded once from 50 digits; kept as printed")]
-pub(super) const LOBATTO3: Lobatto<3> = Lobatto {
+pub(crate) const LOBATTO3: Lobatto<3> = Lobatto {
     aa: [[0.0; 3]; 3],
     c: [0.0, 5.00000000000000000000e-1, 1.00000000000000000000],
     b: [1.66666666666666666667e-1, 6.66666666666666666667e-1, 1.66666666666666666667e-1],
@@ -79,7 +78,7 @@ pub(super) const LOBATTO3: Lobatto<3> = Lobatto {
 .with_products();
 
 #[allow(clippy::excessive_precision, reason = "rounded once from 50 digits; kept as printed")]
-pub(super) const LOBATTO4: Lobatto<4> = Lobatto {
+pub(crate) const LOBATTO4: Lobatto<4> = Lobatto {
     aa: [[0.0; 4]; 4],
     c: [0.0, 2.76393202250021030359e-1, 7.23606797749978969641e-1, 1.00000000000000000000],
     b: [8.33333333333333333333e-2, 4.16666666666666666667e-1, 4.16666666666666666667e-1, 8.33333333333333333333e-2],
@@ -99,7 +98,7 @@ pub(super) const LOBATTO4: Lobatto<4> = Lobatto {
 .with_products();
 
 #[allow(clippy::excessive_precision, reason = "rounded once from 50 digits; kept as printed")]
-pub(super) const LOBATTO5: Lobatto<5> = Lobatto {
+pub(crate) const LOBATTO5: Lobatto<5> = Lobatto {
     aa: [[0.0; 5]; 5],
     c: [0.0, 1.72673164646011428101e-1, 5.00000000000000000000e-1, 8.27326835353988571899e-1, 1.00000000000000000000],
     b: [5.00000000000000000000e-2, 2.72222222222222222222e-1, 3.55555555555555555556e-1, 2.72222222222222222222e-1, 5.00000000000000000000e-2],
