@@ -17,7 +17,7 @@ pub use composition::{Composed, Composition};
 pub use general_memory::GeneralMemory;
 pub use integrator::{GeneralStepper, Integrator, MethodInfo, Stepper, SymmetricAt};
 pub use memory::{Memory, Recall};
-pub use prk::TableauChoice;
+pub use prk::tableau::TableauChoice;
 
 use crate::model::mechanical::Mechanical;
 use crate::model::params::resolve_params;

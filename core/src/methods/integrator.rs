@@ -3,7 +3,7 @@
 
 use super::general_memory::GeneralMemory;
 use super::memory::Memory;
-use super::prk::TableauChoice;
+use super::prk::tableau::TableauChoice;
 use crate::model::mechanical::Mechanical;
 use crate::model::system::{ParamSpec, System};
 use crate::{InputError, State, StepFailure};

@@ -28,7 +28,8 @@ pub mod stored;
 pub mod tableau;
 
 use self::stored::stored_tableau;
-use self::tableau::{Tableau, TableauSpec};
+pub use self::tableau::TableauChoice;
+use self::tableau::Tableau;
 use crate::methods::general_memory::GeneralMemory;
 use crate::methods::integrator::{GeneralStepper, Integrator, MethodInfo, Stepper};
 use crate::model::mechanical::General;
@@ -59,15 +60,6 @@ impl Constraint {
             Constraint::Midpoint => "midpoint",
         }
     }
-}
-
-/// A tableau as a request names it: a stored one by id, or given.
-#[derive(Debug, Clone, PartialEq)]
-pub enum TableauChoice {
-    /// A stored tableau's id (`gauss2`, …).
-    Stored(String),
-    /// The tableau itself.
-    Given(TableauSpec),
 }
 
 /// A partitioned Runge–Kutta method given as its tableau.

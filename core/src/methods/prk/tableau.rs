@@ -47,6 +47,15 @@ pub struct TableauSpec {
     pub b_hat: Option<Vec<f64>>,
 }
 
+/// A tableau as a request names it: a stored one by id, or given.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TableauChoice {
+    /// A stored tableau's id (`gauss2`, …).
+    Stored(String),
+    /// The tableau itself.
+    Given(TableauSpec),
+}
+
 fn error(field: &str, message: String) -> InputError {
     InputError::Tableau { field: format!("tableau.{field}"), message }
 }
