@@ -15,6 +15,7 @@
 //! `wp spark` and `verdicts spark` do the same for the SPARK methods (s = 2 … 5): the verdicts
 //! on the paper's six scenes; work–precision of RK4, the SPARKs and every composition that
 //! applies, on the same two scenes and the inclined Chaplygin sleigh (to t = 100).
+//! `verdicts prk` takes methods given as stored tableaux ([`tableaux`]) to the same six scenes.
 //!
 //! ```text
 //! cargo run --release -p nhlab-core --example compositions -- wp > target/wp_compositions.csv
@@ -22,6 +23,7 @@
 //! cargo run --release -p nhlab-core --example compositions -- cost
 //! cargo run --release -p nhlab-core --example compositions -- wp spark > target/wp_spark.csv
 //! cargo run --release -p nhlab-core --example compositions -- verdicts spark
+//! cargo run --release -p nhlab-core --example compositions -- verdicts prk
 //! ```
 
 use nhlab_core::catalogue::work_precision::{measure, reference};
@@ -46,6 +48,22 @@ fn composed() -> Vec<Method> {
     symmetric
         .flat_map(|m| Composition::ALL.map(move |c| m.composed(c).expect("symmetric")))
         .collect()
+}
+
+/// Methods given as stored tableaux: Gauss and Radau IIA with stage conditions (order 2s and
+/// 2s − 1, not symmetric), Gauss2 with one multiplier at the end and at the midpoint (order 2,
+/// symmetric).
+fn tableaux() -> Vec<Method> {
+    let prk = |tableau: &str, constraint: &str| {
+        let spec = MethodSpec {
+            tableau: Some(nhlab_core::methods::TableauChoice::Stored(tableau.into())),
+            constraint: Some(constraint.into()),
+            ..MethodSpec::new("prk")
+        };
+        Method::from_spec(&spec).expect("a stored tableau")
+    };
+    let stage = ["gauss1", "gauss2", "gauss3", "radau2", "radau3"].map(|t| prk(t, "stage"));
+    stage.into_iter().chain([prk("gauss2", "end"), prk("gauss2", "midpoint")]).collect()
 }
 
 /// The SPARK methods, s = 2 … 5.
@@ -101,14 +119,18 @@ fn work_precision(spark: bool) -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-fn verdicts(spark: bool) -> Result<(), Box<dyn std::error::Error>> {
+fn verdicts(which: &str) -> Result<(), Box<dyn std::error::Error>> {
     println!("| scene | method | integral | verdict | max | early max | late mean | ratio |");
     println!("|---|---|---|---|---|---|---|---|");
     for (system, preset) in nhlab_core::PAPER_SCENES {
         let mut s = scene(system, preset)?;
         s.t_end = 30_000.0;
         let prepared = s.prepare(None)?;
-        let methods = if spark { sparks() } else { composed() };
+        let methods = match which {
+            "spark" => sparks(),
+            "prk" => tableaux(),
+            _ => composed(),
+        };
         let lines = Mutex::new(vec![Vec::new(); methods.len()]);
         let next = Mutex::new(0);
         std::thread::scope(|scope| {
@@ -205,11 +227,12 @@ fn cost() -> Result<(), Box<dyn std::error::Error>> {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let spark = std::env::args().nth(2).as_deref() == Some("spark");
+    let which = std::env::args().nth(2).unwrap_or_default();
+    let spark = which == "spark";
     match std::env::args().nth(1).as_deref() {
         Some("wp") => work_precision(spark),
-        Some("verdicts") => verdicts(spark),
+        Some("verdicts") => verdicts(&which),
         Some("cost") => cost(),
-        _ => Err("usage: compositions wp|verdicts|cost [spark]".into()),
+        _ => Err("usage: compositions wp [spark] | verdicts [spark|prk] | cost".into()),
     }
 }

@@ -272,6 +272,10 @@ pub struct MethodInfoView {
     /// solution beside the methods'; `/work-precision` measures against it already). Never
     /// among the defaults.
     pub instrument: bool,
+    /// Whether it is given as a tableau and a constraint (`prk`): its order and symmetry are
+    /// then those of the `tableaux` entry's `constraints`, and `order` and `composable` here
+    /// are its default's.
+    pub by_tableau: bool,
     /// Where the step is symmetric (so composable) at one value of a parameter only (DLA^α at
     /// α = 0.5): that value and the order elsewhere; absent where any values do.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -419,6 +423,7 @@ impl SystemsResponse {
                     composable: composable.contains(&m.id),
                     composed_order_limit: m.composed_order_limit,
                     instrument: m.instrument,
+                    by_tableau: m.by_tableau,
                     symmetric_at: m.symmetric_at.map(|s| SymmetricAtView {
                         param: s.param.into(),
                         value: s.value,
