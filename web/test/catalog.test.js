@@ -165,3 +165,35 @@ test('compositions are offered where the method as configured is symmetric, with
   const never = catalog.methods.find((m) => !m.composable);
   assert.equal(composableAt(never, {}).composable, false);
 });
+
+test('a PRK method: its tableau and constraint give its order and whether it may be composed', async () => {
+  const { composableAt, findTableau, tableauChoice, tableauMethod, takesTableau } = await import('../src/data/catalog.js');
+  // The method the tableaux are for, found from their labels (the page names no method).
+  assert.equal(tableauMethod(catalog), 'prk');
+  assert.ok(takesTableau(catalog, 'prk'));
+  assert.ok(!takesTableau(catalog, 'spark'));
+  assert.equal(tableauMethod({ ...catalog, tableaux: [] }), undefined);
+  const prk = catalog.methods.find((m) => m.id === 'prk');
+  const at = (tableau, constraint) => composableAt(prk, {}, tableauChoice(catalog, tableau, constraint).entry);
+  // Gauss with its stage conditions is not symmetric; at the step's end or midpoint it is,
+  // of order 2. Lobatto IIIA–IIIB is symmetric with each, Radau IIA with none.
+  assert.deepEqual(at('gauss3', 'stage'), { composable: false, order: 6 });
+  assert.deepEqual(at('gauss2', 'midpoint'), { composable: true, order: 2 });
+  assert.deepEqual(at('lobatto3', 'stage'), { composable: true, order: 4 });
+  assert.deepEqual(at('radau2', 'end'), { composable: false, order: 2 });
+  // The numbers are the catalog's, for every tableau and constraint.
+  for (const t of catalog.tableaux) {
+    for (const c of t.constraints) assert.deepEqual(at(t.id, c.id), { composable: c.symmetric, order: c.order }, `${t.id}, ${c.id}`);
+  }
+  // Without a choice: the server's default, gauss2 with stage, which is what `composable` says.
+  assert.deepEqual(tableauChoice(catalog), { tableau: 'gauss2', constraint: 'stage', entry: findTableau(catalog, 'gauss2').constraints[0] });
+  assert.deepEqual(at(undefined, undefined), { composable: prk.composable, order: prk.order });
+  assert.deepEqual(composableAt(prk, {}), { composable: false, order: prk.order });
+  // An unknown tableau falls back to the default, keeping a constraint it takes; a constraint
+  // the tableau does not take falls back to `stage`.
+  assert.deepEqual(tableauChoice(catalog, 'gauss9', 'midpoint').tableau, 'gauss2');
+  assert.deepEqual(tableauChoice(catalog, 'gauss9', 'midpoint').constraint, 'midpoint');
+  assert.deepEqual(tableauChoice(catalog, 'lobatto2', 'somewhere').constraint, 'stage');
+  const endOnly = { ...catalog, tableaux: [{ id: 'mine', order: 2, constraints: [{ id: 'end', order: 2, symmetric: true, label: 'PRK[mine, end]' }] }] };
+  assert.deepEqual(tableauChoice(endOnly, 'mine').constraint, 'end');
+});

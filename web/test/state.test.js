@@ -149,3 +149,45 @@ test('an empty Step field survives the URL as empty, not as 0', async () => {
   assert.match(query, /(^|&)step=(&|$)/);
   assert.equal(decode(query, catalog).state.step, null);
 });
+
+test('a PRK method travels in the link with its tableau and constraint, and goes in the request', async () => {
+  const { readFileSync } = await import('node:fs');
+  const real = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
+  const s = defaultState(real, 'knife_edge', 'paper');
+  s.methods = [
+    { id: 'prk', params: {}, tableau: 'gauss3', constraint: 'stage' },
+    { id: 'prk', params: {}, tableau: 'gauss2', constraint: 'midpoint', composition: 'p4s3' },
+    { id: 'prk', params: {}, tableau: 'lobatto3', constraint: 'stage', composition: 'p6s9' },
+    { id: 'dla', params: { alpha: 0.5 } },
+  ];
+  const query = encodeState(s, real);
+  // The tableau after the id, the constraint where it is not `stage`.
+  assert.match(query, /methods=prk:gauss3,prk:gauss2:midpoint@p4s3,prk:lobatto3@p6s9,dla:0.5(&|$)/);
+  const back = decodeState(query, real);
+  assert.deepEqual(back.warnings, []);
+  assert.deepEqual(back.state.methods, s.methods);
+  assert.equal(encodeState(back.state, real), query);
+  assert.deepEqual(requestBody(back.state, real).methods, [
+    { id: 'prk', tableau: 'gauss3', constraint: 'stage' },
+    { id: 'prk', tableau: 'gauss2', constraint: 'midpoint', composition: 'p4s3' },
+    { id: 'prk', tableau: 'lobatto3', constraint: 'stage', composition: 'p6s9' },
+    { id: 'dla', alpha: 0.5 },
+  ]);
+  // A bare id is the server's default, gauss2 with stage.
+  assert.deepEqual(decodeState('system=knife_edge&methods=prk', real).state.methods, [{ id: 'prk', params: {}, tableau: 'gauss2', constraint: 'stage' }]);
+});
+
+test("a link's unknown tableau, refused constraint or composition of a step that is not symmetric falls back with a warning", async () => {
+  const { readFileSync } = await import('node:fs');
+  const real = JSON.parse(readFileSync(new URL('./fixtures/systems.json', import.meta.url), 'utf8'));
+  const unknown = decodeState('system=knife_edge&methods=prk:gauss9:midpoint', real);
+  assert.deepEqual(unknown.state.methods, [{ id: 'prk', params: {}, tableau: 'gauss2', constraint: 'midpoint' }]);
+  assert.match(unknown.warnings.join(' '), /unknown tableau "gauss9" in the link; gauss2 instead/);
+  const constraint = decodeState('system=knife_edge&methods=prk:radau2:somewhere', real);
+  assert.deepEqual(constraint.state.methods, [{ id: 'prk', params: {}, tableau: 'radau2', constraint: 'stage' }]);
+  assert.match(constraint.warnings.join(' '), /radau2 takes no constraint "somewhere"; stage instead/);
+  // Gauss with stage conditions is not symmetric: its composition is left out.
+  const composed = decodeState('system=knife_edge&methods=prk:gauss3@p4s3', real);
+  assert.deepEqual(composed.state.methods, [{ id: 'prk', params: {}, tableau: 'gauss3', constraint: 'stage' }]);
+  assert.match(composed.warnings.join(' '), /PRK\[gauss3\] is not symmetric, so it takes no composition; "p4s3" left out/);
+});

@@ -56,3 +56,9 @@ test('an experiment and an opened scene run what they name, the rest from the pr
   assert.equal(opened.window, defaultWindow(500));
   assert.deepEqual(opened.methods, [{ id: 'dla', params: { alpha: 0.45 } }, { id: 'leapfrog', params: {}, composition: 'p4s3' }]);
 });
+
+test("a map cell's PRK method opens with its tableau and constraint, not as parameters", () => {
+  const scene = { system: 'knife_edge', preset: 'paper' };
+  const opened = sceneOpened(catalog, scene, [{ id: 'prk', tableau: 'gauss2', constraint: 'midpoint', composition: 'p4s3', label: 'PRK[gauss2, midpoint]∘p4s3' }]);
+  assert.deepEqual(opened.methods, [{ id: 'prk', params: {}, tableau: 'gauss2', constraint: 'midpoint', composition: 'p4s3' }]);
+});

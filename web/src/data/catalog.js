@@ -3,8 +3,9 @@
 // five), the paper's experiments its `paper_scenes`; the integrals a paper figure shows, the
 // default running-mean window, a system's short name and the Paper view's figures follow
 // from the systems' integrals, presets and names; the methods that apply to a system and
-// what it is (in the paper's class or not) from its `methods` and `paper_class`. Pure
-// functions, so node tests cover them.
+// what it is (in the paper's class or not) from its `methods` and `paper_class`; the method
+// given as a tableau and a constraint (PRK) from the `tableaux` it may name, each with the
+// constraints it takes, their order and symmetry. Pure functions, so node tests cover them.
 
 import { INTEGRAL_NAME, INTEGRAL_SHORT } from './verdicts.js';
 
@@ -188,9 +189,47 @@ export function figureScenes(figures) {
   return [...scenes.values()];
 }
 
+// What the method given as a tableau runs without one (the server's defaults, docs/api.md).
+const DEFAULT_TABLEAU = 'gauss2';
+export const DEFAULT_CONSTRAINT = 'stage';
+
+/** The id of the method given as a tableau and a constraint, from the catalog: `tableaux`
+ *  label the methods they make after it (`PRK[gauss3]`, its id in capitals). */
+export function tableauMethod(catalog) {
+  const head = /^([^[\]]+)\[/.exec(catalog.tableaux?.[0]?.constraints?.[0]?.label ?? '')?.[1];
+  return head ? catalog.methods.find((m) => m.id.toUpperCase() === head)?.id : undefined;
+}
+
+/** Whether the method `id` is given as a tableau and a constraint. */
+export function takesTableau(catalog, id) {
+  const method = tableauMethod(catalog);
+  return method !== undefined && method === id;
+}
+
+export function findTableau(catalog, id) {
+  return catalog.tableaux?.find((t) => t.id === id);
+}
+
+/**
+ * A PRK method's stored tableau and constraint as the catalog can run them, with `entry`, the
+ * tableau's `constraints` entry for that constraint ({id, order, symmetric, label}). An
+ * unknown or missing tableau falls back to gauss2 (else the first listed), a constraint the
+ * tableau does not take to `stage` (else its first); callers compare to say so. Without
+ * `tableaux` in the catalog the choice is kept as given, with no entry.
+ */
+export function tableauChoice(catalog, tableau, constraint) {
+  const t = findTableau(catalog, tableau) ?? findTableau(catalog, DEFAULT_TABLEAU) ?? catalog.tableaux?.[0];
+  if (!t) return { tableau: tableau ?? DEFAULT_TABLEAU, constraint: constraint ?? DEFAULT_CONSTRAINT, entry: undefined };
+  const takes = (id) => t.constraints.some((c) => c.id === id);
+  const c = takes(constraint) ? constraint : takes(DEFAULT_CONSTRAINT) ? DEFAULT_CONSTRAINT : t.constraints[0]?.id;
+  return { tableau: t.id, constraint: c, entry: t.constraints.find((x) => x.id === c) };
+}
+
 /** Whether `info`'s method with `params` may be composed (GET /systems' `symmetric_at`), and
- *  its order alone. */
-export function composableAt(info, params) {
+ *  its order alone. A PRK method's both come from `constraint`, its tableau's entry for its
+ *  constraint (`tableauChoice(…).entry`): the method's own `composable` is its default's. */
+export function composableAt(info, params, constraint) {
+  if (constraint) return { composable: constraint.symmetric === true, order: constraint.order };
   const at = info.symmetric_at;
   if (!info.composable) return { composable: false, order: info.order };
   if (!at) return { composable: true, order: info.order };

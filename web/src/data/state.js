@@ -4,15 +4,17 @@
 //   ?system=<system id>&preset=<preset id>&smooth=1&run=1
 // Methods are written `id` or `id:p1:p2` (parameters in the order /systems lists them), e.g.
 // `methods=<id>:0.5,<id>:0.4,<id>`, and a composition after `@`
-// (`<id>@<composition>`). The defaults (methods, window) come from the catalog by the rules of
-// catalog.js. A custom system (custom.js) is written field by field instead of
-// `system` and `preset` (customurl.js); it has no preset, so its initial state and times are
-// written too:
+// (`<id>@<composition>`); the method given as a tableau (PRK) adds its stored tableau and,
+// where it is not `stage`, its constraint (`<id>:gauss3`, `<id>:gauss2:midpoint@p4s3`). The
+// defaults (methods, window) come from the catalog by the rules of catalog.js. A custom
+// system (custom.js) is written field by field instead of `system` and `preset`
+// (customurl.js); it has no preset, so its initial state and times are written too:
 //   ?custom=<name>&passenger=x1,x2&driver=zeta&param.k=1&U=…&Vd=…&A=…&q=…&v=…&step=…&t_end=…
 // A link's methods that do not apply to its system (one made for the paper's class alone, on
-// a system outside it) are left out with a warning. Pure functions over the /systems catalog.
+// a system outside it) are left out with a warning; an unknown tableau falls back to the
+// default one, with a warning too. Pure functions over the /systems catalog.
 
-import { applicable, defaultMethods, defaultWindow, findMethod, findPreset, findSystem } from './catalog.js';
+import { DEFAULT_CONSTRAINT, applicable, composableAt, defaultMethods, defaultWindow, findMethod, findPreset, findSystem, tableauChoice, takesTableau } from './catalog.js';
 import { copyCustom, defaultCustomIntegrals, isCustom } from './custom.js';
 import { decodeCustom, encodeCustom } from './customurl.js';
 
@@ -158,7 +160,14 @@ export function requestBody(state, catalog) {
   // Unset fields (empty inputs) are left to the preset.
   for (const key of ['q', 'v']) if (state[key]?.length) body[key] = state[key];
   for (const key of ['step', 't_end']) if (state[key] !== null && state[key] !== undefined) body[key] = state[key];
-  body.methods = state.methods.map((m) => ({ id: m.id, ...m.params, ...(m.composition ? { composition: m.composition } : {}) }));
+  body.methods = state.methods.map((m) => ({
+    id: m.id,
+    ...m.params,
+    // A PRK method's tableau and constraint, as the request takes them beside its id.
+    ...(m.tableau ? { tableau: m.tableau } : {}),
+    ...(m.constraint ? { constraint: m.constraint } : {}),
+    ...(m.composition ? { composition: m.composition } : {}),
+  }));
   const listed = !custom && catalog ? findSystem(catalog, state.system)?.integrals : null;
   if (listed?.join(',') !== state.integrals.join(',')) body.integrals = state.integrals;
   body.points = state.points;
@@ -176,6 +185,11 @@ function encodeMethods(methods, catalog) {
     .map((m) => {
       const info = findMethod(catalog, m.id);
       const values = (info?.params ?? []).map((p) => num(m.params[p.name] ?? p.default));
+      // After the parameters, a PRK method's tableau and its constraint where not `stage`.
+      if (takesTableau(catalog, m.id)) {
+        const choice = tableauChoice(catalog, m.tableau, m.constraint);
+        values.push(choice.tableau, ...(choice.constraint === DEFAULT_CONSTRAINT ? [] : [choice.constraint]));
+      }
       const item = [m.id, ...values].join(':');
       return m.composition ? `${item}@${m.composition}` : item;
     })
@@ -185,8 +199,8 @@ function encodeMethods(methods, catalog) {
 function decodeMethods(text, catalog, warnings) {
   const out = [];
   for (const item of text.split(',').filter(Boolean)) {
-    const [method, composition] = item.split('@');
-    const [id, ...values] = method.split(':');
+    const [name, composition] = item.split('@');
+    const [id, ...values] = name.split(':');
     const info = findMethod(catalog, id);
     if (!info) {
       warnings.push(`unknown method "${id}" in the link; left out`);
@@ -196,12 +210,29 @@ function decodeMethods(text, catalog, warnings) {
     info.params.forEach((p, i) => {
       params[p.name] = i < values.length ? Number(values[i]) : p.default;
     });
+    const method = { id, params };
+    // A PRK method: its tableau and constraint follow the parameters (it has none).
+    const tableau = takesTableau(catalog, id) ? readTableau(values.slice(info.params.length), catalog, warnings) : null;
+    if (tableau) Object.assign(method, { tableau: tableau.tableau, constraint: tableau.constraint });
+    const composable = tableau ? composableAt(info, params, tableau.entry).composable : info.composable;
     const known = (catalog.compositions ?? []).some((c) => c.id === composition);
     if (composition && !known) warnings.push(`unknown composition "${composition}" in the link; left out`);
-    if (known && !info.composable) warnings.push(`${id} takes no composition; "${composition}" left out`);
-    out.push(known && info.composable ? { id, params, composition } : { id, params });
+    if (known && !composable) {
+      const what = tableau?.entry ? `${tableau.entry.label} is not symmetric, so it` : id;
+      warnings.push(`${what} takes no composition; "${composition}" left out`);
+    }
+    out.push(known && composable ? { ...method, composition } : method);
   }
   return out;
+}
+
+// A PRK method's `tableau:constraint` from a link, as the catalog can run it: an unknown
+// tableau or a constraint it does not take falls back (tableauChoice), with a warning.
+function readTableau([tableau, constraint], catalog, warnings) {
+  const choice = tableauChoice(catalog, tableau || undefined, constraint || undefined);
+  if (tableau && tableau !== choice.tableau) warnings.push(`unknown tableau "${tableau}" in the link; ${choice.tableau} instead`);
+  if (constraint && constraint !== choice.constraint) warnings.push(`${choice.tableau} takes no constraint "${constraint}"; ${choice.constraint} instead`);
+  return choice;
 }
 
 function num(v) {

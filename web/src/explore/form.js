@@ -3,9 +3,11 @@
 // `methods[1].alpha`, `q[2]`, `system.constraints[0][1]`, …). Every field carries a
 // `data-path` for that lookup. "Custom system" in the system select shows the editor
 // (editor.js) in place of the preset and parameters. A built-in is shown with whether it is
-// in the paper's class, and offers the methods that apply to it.
+// in the paper's class, and offers the methods that apply to it. A PRK method's row picks a
+// stored tableau and one of the constraints that tableau takes; its order and whether it may
+// be composed are that pair's (GET /systems' `tableaux`).
 
-import { composableAt, defaultWindow, findPreset, findSystem, methodsFor, paperClassLine } from '../data/catalog.js';
+import { composableAt, defaultWindow, findPreset, findSystem, findTableau, methodsFor, paperClassLine, tableauChoice, takesTableau } from '../data/catalog.js';
 import { CLASS_ONLY, CUSTOM, coordinateNames, customIntegrals, defaultCustomIntegrals, isCustom, isGeneral, startingPoints } from '../data/custom.js';
 import { Editor } from './editor.js';
 import { parseList } from '../data/state.js';
@@ -95,15 +97,16 @@ export class Form {
     setNumber($('t_end'), state.t_end);
     setNumber($('points'), state.points);
     $('methods').replaceChildren();
-    for (const m of state.methods) this.addMethod(m.id, m.params, m.composition);
+    for (const m of state.methods) this.addMethod(m.id, m.params, m.composition, m);
     $('stat').value = state.stat;
     $('smooth').checked = state.smooth;
     setNumber($('window'), state.window);
   }
 
-  /** Adds a method row (checked), with an input per method parameter and, for a symmetric
-   *  method, a composition picker. */
-  addMethod(id, params = {}, composition = '') {
+  /** Adds a method row (checked), with an input per method parameter, for a PRK method a
+   *  tableau and a constraint select (set to `tableau` and `constraint`, else the defaults)
+   *  and, for a symmetric method, a composition picker. */
+  addMethod(id, params = {}, composition = '', { tableau, constraint } = {}) {
     const info = this.catalog.methods.find((m) => m.id === id);
     if (!info) return;
     const row = el('div', 'method-row field');
@@ -130,13 +133,18 @@ export class Form {
       wrap.append(el('span', 'method-param-name', `${symbol(p.name)} =`), input);
       row.append(wrap);
     }
-    if (info.composable && this.catalog.compositions?.length) {
-      const picker = this.#compositionPicker(info, composition);
-      row.append(picker);
-      // Offered only where the method as configured is symmetric (DLA^α at α = 0.5), with the
-      // order it reaches; kept in step with its parameters.
-      const sync = () => offerCompositions(picker, info, paramsOf(row), name);
+    const byTableau = takesTableau(this.catalog, id);
+    if (byTableau) row.append(...this.#tableauPickers(info, tableauChoice(this.catalog, tableau, constraint)));
+    // A PRK method may be composed with some tableaux and constraints, not with its default.
+    const picker = (info.composable || byTableau) && this.catalog.compositions?.length ? this.#compositionPicker(info, composition) : null;
+    if (picker) row.append(picker);
+    // Offered only where the method as configured is symmetric (DLA^α at α = 0.5, a PRK's
+    // tableau with its constraint), with the order it reaches; kept in step with its
+    // parameters and its tableau.
+    const sync = () => offerCompositions(picker, info, paramsOf(row), name, this.#entryOf(row));
+    if (picker || byTableau) {
       for (const input of row.querySelectorAll('input[data-param]')) input.addEventListener('input', sync);
+      for (const select of row.querySelectorAll('select[data-tableau], select[data-constraint]')) select.addEventListener('change', sync);
       sync();
     }
     const remove = removeButton('Remove this method', `remove ${info.name}`, () => {
@@ -158,13 +166,49 @@ export class Form {
     select.setAttribute('aria-label', `composition of ${info.name}`);
     select.append(option('', 'order 2'));
     // Some methods' compositions stop below the scheme's order (measured; GET /systems says so).
+    // offerCompositions writes each option's text with the order the method reaches alone.
     const limit = info.composed_order_limit ?? Infinity;
     for (const c of this.catalog.compositions) {
-      select.append(option(c.id, `∘${c.id} (order ${Math.min(c.order, limit)}, ${c.stages} stages)`));
+      const o = option(c.id, '');
+      Object.assign(o.dataset, { order: Math.min(c.order, limit), stages: c.stages });
+      select.append(o);
     }
     select.value = this.catalog.compositions.some((c) => c.id === chosen) ? chosen : '';
     wrap.append(select);
     return wrap;
+  }
+
+  // A PRK method's tableau select (every stored tableau, by id and order) and its constraint
+  // select (those the tableau takes, by id and the order they give); choosing a tableau
+  // offers its constraints, keeping the one chosen where the tableau takes it.
+  #tableauPickers(info, choice) {
+    const pick = (what, title) => {
+      const wrap = el('label', `method-param method-${what}`);
+      const select = el('select');
+      select.dataset[what] = '';
+      select.title = title;
+      select.setAttribute('aria-label', `${what} of ${info.name}`);
+      wrap.append(el('span', 'method-param-name', what), select);
+      return [wrap, select];
+    };
+    const [tableauWrap, tableau] = pick('tableau', 'A stored tableau (GET /systems lists them), with its classical order');
+    const [constraintWrap, constraint] = pick('constraint', 'How the constraint is imposed: at the stages, at the step’s end or at the chord’s midpoint; the order the method then reaches');
+    tableau.append(...(this.catalog.tableaux ?? []).map((t) => option(t.id, `${t.id} (order ${t.order})`)));
+    tableau.value = choice.tableau;
+    const offer = (chosen) => {
+      const t = findTableau(this.catalog, tableau.value);
+      constraint.replaceChildren(...(t?.constraints ?? []).map((c) => option(c.id, `${c.id} (order ${c.order})`)));
+      constraint.value = tableauChoice(this.catalog, tableau.value, chosen).constraint;
+    };
+    offer(choice.constraint);
+    tableau.addEventListener('change', () => offer(constraint.value));
+    return [tableauWrap, constraintWrap];
+  }
+
+  // The constraint entry of a PRK row's tableau and constraint (undefined for other methods).
+  #entryOf(row) {
+    const tableau = row.querySelector('select[data-tableau]');
+    return tableau ? tableauChoice(this.catalog, tableau.value, row.querySelector('select[data-constraint]').value).entry : undefined;
   }
 
   // The methods the "Add method" select offers: those that apply to the system.
@@ -241,15 +285,7 @@ export class Form {
     };
     const methods = [];
     for (const row of $('methods').querySelectorAll('.method-row')) {
-      const box = row.querySelector('.method-on');
-      if (!box.checked) continue;
-      const p = {};
-      for (const input of row.querySelectorAll('input[data-param]')) {
-        const v = number(input, `${row.dataset.path}.${input.dataset.param}`);
-        if (v !== null) p[input.dataset.param] = v;
-      }
-      const composition = row.querySelector('select[data-composition]')?.value;
-      methods.push(composition ? { id: box.dataset.id, params: p, composition } : { id: box.dataset.id, params: p });
+      if (row.querySelector('.method-on').checked) methods.push(rowMethod(row, number));
     }
     if (methods.length === 0) invalid.push({ path: 'methods', message: 'choose at least one method' });
     const integrals = this.#checkedIntegrals();
@@ -344,8 +380,10 @@ export class Form {
         for (const input of row.querySelectorAll('input[data-param]')) {
           input.closest('.method-param').dataset.path = `methods[${i}].${input.dataset.param}`;
         }
-        const picker = row.querySelector('.method-composition');
-        if (picker) picker.dataset.path = `methods[${i}].composition`;
+        for (const what of ['composition', 'tableau', 'constraint']) {
+          const picker = row.querySelector(`.method-${what}`);
+          if (picker) picker.dataset.path = `methods[${i}].${what}`;
+        }
         i++;
       } else {
         delete row.dataset.path;
@@ -419,22 +457,49 @@ function setNumber(input, v) {
   input.value = v === null || v === undefined || Number.isNaN(v) ? '' : String(v);
 }
 
+/**
+ * The method a form row holds, as a state keeps it: `{id, params}`, with a PRK method's
+ * tableau and constraint and the composition where one is chosen. `number(input, path)` reads
+ * a parameter's input (null when empty), noting one that does not parse.
+ */
+export function rowMethod(row, number) {
+  const method = { id: row.querySelector('.method-on').dataset.id, params: {} };
+  for (const input of row.querySelectorAll('input[data-param]')) {
+    const v = number(input, `${row.dataset.path}.${input.dataset.param}`);
+    if (v !== null) method.params[input.dataset.param] = v;
+  }
+  const tableau = row.querySelector('select[data-tableau]')?.value;
+  if (tableau) Object.assign(method, { tableau, constraint: row.querySelector('select[data-constraint]').value });
+  const composition = row.querySelector('select[data-composition]')?.value;
+  if (composition) method.composition = composition;
+  return method;
+}
+
 /** A method row's parameter values, by name, as its inputs hold them. */
 function paramsOf(row) {
   return Object.fromEntries([...row.querySelectorAll('input[data-param]')].map((i) => [i.dataset.param, Number(i.value)]));
 }
 
 /**
- * The composition picker of a method row, in step with its parameters: shown only where the
- * method as configured is symmetric (`composableAt`), its first option the order the method
- * reaches alone; a choice made where it no longer applies is dropped. The method's name says
- * the order too.
+ * The composition picker of a method row (if it has one), in step with its parameters and a
+ * PRK method's tableau and constraint (`entry`, the tableau's entry for the constraint):
+ * shown only where the method as configured is symmetric (`composableAt`), its first option
+ * the order the method reaches alone, each composition's the order it reaches (the scheme's,
+ * never below the method's own, as the server counts it); a choice made where it no longer
+ * applies is dropped. The method's name says the order too (a PRK's with its label,
+ * `PRK[gauss3]`).
  */
-function offerCompositions(picker, info, params, name) {
-  const { composable, order } = composableAt(info, params);
-  const select = picker.querySelector('select');
-  picker.hidden = !composable;
-  if (!composable) select.value = '';
-  select.options[0].textContent = `order ${order}`;
-  name.title = [info.name, `order ${order}`, composable ? '' : 'not symmetric at these parameters: no composition', info.reference].filter(Boolean).join(' · ');
+function offerCompositions(picker, info, params, name, entry) {
+  const { composable, order } = composableAt(info, params, entry);
+  if (picker) {
+    const select = picker.querySelector('select');
+    picker.hidden = !composable;
+    if (!composable) select.value = '';
+    select.options[0].textContent = `order ${order}`;
+    for (const o of [...select.options].slice(1)) {
+      o.textContent = `∘${o.value} (order ${Math.max(order, Number(o.dataset.order))}, ${o.dataset.stages} stages)`;
+    }
+  }
+  const why = entry ? 'not symmetric with this tableau and constraint' : 'not symmetric at these parameters';
+  name.title = [entry?.label ?? info.name, `order ${order}`, composable ? '' : `${why}: no composition`, info.reference].filter(Boolean).join(' · ');
 }

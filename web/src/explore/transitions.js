@@ -88,7 +88,11 @@ export function sceneOpened(catalog, scene, methods) {
     smooth: true,
     methods: applicable(catalog, scene.system, methods).map((m) => ({
       id: m.id,
-      params: Object.fromEntries(Object.entries(m).filter(([k]) => !['id', 'label', 'composition'].includes(k))),
+      params: Object.fromEntries(Object.entries(m).filter(([k]) => !['id', 'label', 'composition', 'tableau', 'constraint'].includes(k))),
+      // A PRK method's stored tableau and constraint (a tableau given in full is not one the
+      // form offers: the form shows the default there).
+      ...(typeof m.tableau === 'string' ? { tableau: m.tableau } : {}),
+      ...(m.constraint ? { constraint: m.constraint } : {}),
       ...(m.composition ? { composition: m.composition } : {}),
     })),
   });

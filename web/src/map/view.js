@@ -10,7 +10,7 @@
 // plus the map's settings, in the URL as `?view=map&…` (sweep.js); `run=1` computes on load.
 
 import { ApiError, retrying, sweep } from '../data/api.js';
-import { findMethod } from '../data/catalog.js';
+import { findMethod, tableauChoice, takesTableau } from '../data/catalog.js';
 import { sceneCaption, slug, systemSlug } from '../data/custom.js';
 import { Heatmap, KIND_MARKS, OTHER_KINDS } from './heatmap.js';
 import { MapControls } from './controls.js';
@@ -365,9 +365,12 @@ function computeKey(state, catalog, settings) {
 }
 
 // A method of the form as the choice names it before the server labels it: the catalog's
-// label of a default method with the same parameters, else its name and parameters.
+// label of a default method with the same parameters, a PRK method's its tableau's label with
+// its constraint (`PRK[gauss3]`), else its name and parameters.
 function methodLabel(catalog, m) {
   const info = findMethod(catalog, m.id);
+  const byTableau = takesTableau(catalog, m.id) ? tableauChoice(catalog, m.tableau, m.constraint).entry?.label : undefined;
+  if (byTableau) return `${byTableau}${m.composition ? `∘${m.composition}` : ''}`;
   const same = (d) => d.id === m.id && !m.composition && (info?.params ?? []).every((p) => (d[p.name] ?? p.default) === (m.params?.[p.name] ?? p.default));
   const listed = (catalog.default_methods ?? []).find(same);
   if (listed?.label) return listed.label;
