@@ -168,7 +168,7 @@ test('compositions are offered where the method as configured is symmetric, with
 
 test('a PRK method: its tableau and constraint give its order and whether it may be composed', async () => {
   const { composableAt, findTableau, tableauChoice, tableauMethod, takesTableau } = await import('../src/data/catalog.js');
-  // The method the tableaux are for, found from their labels (the page names no method).
+  // The method the tableaux are for, the one GET /systems marks by_tableau (the page names no method).
   assert.equal(tableauMethod(catalog), 'prk');
   assert.ok(takesTableau(catalog, 'prk'));
   assert.ok(!takesTableau(catalog, 'spark'));

@@ -193,11 +193,11 @@ export function figureScenes(figures) {
 const DEFAULT_TABLEAU = 'gauss2';
 export const DEFAULT_CONSTRAINT = 'stage';
 
-/** The id of the method given as a tableau and a constraint, from the catalog: `tableaux`
- *  label the methods they make after it (`PRK[gauss3]`, its id in capitals). */
+/** The id of the method given as a tableau and a constraint: the one GET /systems marks
+ *  `by_tableau`, where the catalog has tableaux for it. */
 export function tableauMethod(catalog) {
-  const head = /^([^[\]]+)\[/.exec(catalog.tableaux?.[0]?.constraints?.[0]?.label ?? '')?.[1];
-  return head ? catalog.methods.find((m) => m.id.toUpperCase() === head)?.id : undefined;
+  if (!catalog.tableaux?.length) return undefined;
+  return catalog.methods.find((m) => m.by_tableau)?.id;
 }
 
 /** Whether the method `id` is given as a tableau and a constraint. */
