@@ -1,5 +1,5 @@
 //! The cost model ([`nhlab_core::catalogue::cost`]) against what runs cost: for every method
-//! (and DLA∘p8s15) on every built-in's first preset and on heavy systems given as formulas
+//! (and DLA∘p8s15, and `prk` with four stored tableaux) on every built-in's first preset and on heavy systems given as formulas
 //! (a smooth U of ~1,800 characters in the paper's form, with its formulas as machine code
 //! and interpreted, and the same V in the general form), the measured ns per step (a run's
 //! CPU time over its steps, sub-steps counted: its thread's time on a core, from
@@ -53,6 +53,16 @@ fn methods() -> Vec<Method> {
         ["dla", "dla01", "leapfrog", "dd", "dd_avf", "rk4", "rattle"].map(MethodSpec::new).into();
     specs.push(MethodSpec::new("dla").composed("p8s15"));
     specs.extend((2..=5).map(|s| MethodSpec::new("spark").with("stages", f64::from(s))));
+    // Methods given as tableaux: the dense solve grows with the stages.
+    for (tableau, constraint) in
+        [("gauss1", "stage"), ("gauss3", "stage"), ("lobatto5", "stage"), ("gauss2", "midpoint")]
+    {
+        specs.push(MethodSpec {
+            tableau: Some(nhlab_core::methods::TableauChoice::Stored(tableau.into())),
+            constraint: Some(constraint.into()),
+            ..MethodSpec::new("prk")
+        });
+    }
     specs.iter().map(|s| Method::from_spec(s).expect("a valid method")).collect()
 }
 

@@ -88,6 +88,21 @@ def test_simulate_gives_the_http_numbers_as_numpy_arrays(http):
     assert r.run("LF").series["energy"].verdict["kind"] == "bounded"
 
 
+def test_a_method_given_as_its_tableau_gives_the_http_numbers(http):
+    methods = [{"id": "prk", "tableau": "gauss3"},
+               {"id": "prk", "tableau": {"a": [[0.5]], "b": [1.0]}, "constraint": "midpoint"}]
+    kwargs = dict(system="chaplygin_sleigh", t_end=5, points=5, methods=methods)
+    status, answer = http.call("POST", "/simulate", kwargs)
+    assert status == 200
+    r = nhlab.simulate(**kwargs)
+    assert [run.label for run in r.runs] == ["PRK[gauss3]", "PRK[1-stage p2, midpoint]"]
+    for run, theirs in zip(r.runs, answer["runs"]):
+        assert (run.method, run.status, run.steps) == (theirs["method"], "ok", theirs["steps"])
+        np.testing.assert_array_equal(run.series["energy"].max, column(theirs["series"]["energy"]["max"]))
+    tableaux = {t["id"]: t for t in nhlab.systems()["tableaux"]}
+    assert tableaux["gauss3"]["order"] == 6
+
+
 def test_a_diverging_run_has_nan_where_http_has_null(http):
     kwargs = dict(system="knife_edge", preset="paper", step=3.0, t_end=3000, methods=["rk4"], points=50)
     _, answer = http.call("POST", "/simulate", kwargs)

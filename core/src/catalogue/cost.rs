@@ -94,15 +94,19 @@ const SPARK_NS: [f64; 4] = [2000.0, 4000.0, 7000.0, 11000.0];
 /// Iterations a `prk` step is priced at: its Newton iterations (3–4 measured) and room.
 const PRK_ITERATIONS: f64 = 6.0;
 
+/// Nanoseconds per multiply–add of `prk`'s dense solve (measured 0.05–0.1 on the built-ins
+/// at the sizes below, which overstate d where R < N).
+const DENSE_NS: f64 = 0.25;
+
 /// Nanoseconds a step of `prk` spends on its dense Newton system, of size s·(N + R) ≤ 2sN
 /// for N coordinates: an LU (d³/3 multiply–adds) and the Jacobian's assembly (s²N³) per
-/// iteration, at a nanosecond each; 0 for the other methods, whose systems are small and
-/// fixed-size (priced in [`built_in_ns`]).
+/// iteration; 0 for the other methods, whose systems are small and fixed-size (priced in
+/// [`built_in_ns`]).
 fn dense_solve_ns(dof: usize, method: &Method) -> f64 {
     let BaseMethod::Prk(m) = method.base else { return 0.0 };
     let (s, n) = (m.tableau.stages as f64, dof as f64);
     let d = 2.0 * s * n;
-    PRK_ITERATIONS * (d * d * d / 3.0 + s * s * n * n * n)
+    PRK_ITERATIONS * (d * d * d / 3.0 + s * s * n * n * n) * DENSE_NS
 }
 
 /// Nanoseconds per step of `method` on a built-in: the slowest built-in's, measured (a
@@ -123,7 +127,9 @@ pub fn built_in_ns(method: &Method) -> f64 {
         // Newton on (s − 1)(N + R) unknowns through a Schur complement of (s − 1)R.
         BaseMethod::Spark(m) => SPARK_NS[usize::from(m.stages.clamp(2, 5)) - 2],
         // Its dense solve is priced by size ([`dense_solve_ns`]); this is the rest.
-        BaseMethod::Prk(m) => 1500.0 * m.tableau.stages as f64,
+        // Measured 330–1040 for one stage (Gauss1), 920–4150 for three (Gauss3), with the
+        // dense solve.
+        BaseMethod::Prk(m) => 2000.0 * m.tableau.stages as f64,
         BaseMethod::ReferenceStep(_) => REFERENCE_EVALUATIONS * 200.0,
         // A call into Python and a few numpy operations: microseconds, whatever the system.
         BaseMethod::External(_) => EXTERNAL_NS,
