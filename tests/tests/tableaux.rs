@@ -92,6 +92,19 @@ async fn malformed_tableaux_are_refused_at_their_field() {
             "methods[0].constraint",
             "'end' or 'midpoint'",
         ),
+        // Classical RK4: as many conditions as multipliers, but the first condition sees none.
+        (
+            json!({"id": "prk", "tableau": {
+                "a": [[0, 0, 0, 0], [0.5, 0, 0, 0], [0, 0.5, 0, 0], [0, 0, 1, 0]],
+                "b": [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0]}}),
+            "methods[0].constraint",
+            "singular",
+        ),
+        (
+            json!({"id": "prk", "tableau": {"a": [[0.0]], "b": [1.0]}, "constraint": "midpoint"}),
+            "methods[0].constraint",
+            "try 'end'",
+        ),
     ];
     for (method, path, mention) in cases {
         let mentions: &[&str] = if mention.is_empty() { &[] } else { &[mention] };

@@ -141,18 +141,34 @@ impl Prk {
                 }
             })?,
         };
-        if constraint == Constraint::Stage {
-            let (rows, columns) = (tableau.constrained_stages().count(), tableau.forced_stages().count());
-            if rows != columns {
-                return Err(InputError::Tableau {
-                    field: "constraint".into(),
-                    message: format!(
+        let refused = |message: String| InputError::Tableau { field: "constraint".into(), message };
+        match constraint {
+            Constraint::Stage => {
+                let (rows, columns) = (tableau.constrained_stages().count(), tableau.forced_stages().count());
+                if rows != columns {
+                    return Err(refused(format!(
                         "constraint 'stage' needs as many multipliers (nonzero columns of \
                          a_hat: {columns}) as weighted conditions (nonzero rows of a: {rows}); \
                          this tableau can take 'end' or 'midpoint'"
-                    ),
-                });
+                    )));
+                }
+                if !tableau.stage_conditions_fix_multipliers() {
+                    return Err(refused(
+                        "constraint 'stage' cannot fix this tableau's multipliers: the product \
+                         a·a_hat, on the rows of a that carry conditions and the columns of \
+                         a_hat that carry multipliers, is singular; try 'end' or 'midpoint'"
+                            .into(),
+                    ));
+                }
             }
+            Constraint::Midpoint if !tableau.midpoint_condition_fixes_its_multiplier() => {
+                return Err(refused(
+                    "constraint 'midpoint' cannot fix this tableau's multiplier: Σ_j b_j Σ_l \
+                     a_hat_jl is 0; try 'end'"
+                        .into(),
+                ));
+            }
+            Constraint::Midpoint | Constraint::End => {}
         }
         Ok(Self { tableau, stored, constraint, classical_order, newton: NewtonConfig::default() })
     }

@@ -4,6 +4,9 @@
 //! bodies.
 
 use crate::config::Config;
+use nhlab_core::methods::prk::Constraint;
+use nhlab_core::methods::prk::stored::stored;
+use nhlab_core::methods::prk::tableau::MAX_STAGES;
 use nhlab_core::{Composition, Integral, ParamSpec, SYSTEMS, method_infos};
 use utoipa::openapi::RefOr;
 use utoipa::openapi::schema::{
@@ -93,6 +96,31 @@ pub(crate) fn integrals() -> ArrayBuilder {
         .min_items(Some(1))
 }
 
+/// A `prk` method's `tableau`: a stored tableau's id, or the tableau.
+fn tableau() -> OneOfBuilder {
+    let stored = stored().iter().map(|t| t.id).collect();
+    let vector =
+        || ArrayBuilder::new().items(number()).min_items(Some(1)).max_items(Some(MAX_STAGES));
+    let matrix =
+        || ArrayBuilder::new().items(vector()).min_items(Some(1)).max_items(Some(MAX_STAGES));
+    let given = ObjectBuilder::new()
+        .schema_type(Type::Object)
+        .additional_properties(Some(AdditionalProperties::FreeForm(false)))
+        .property("a", matrix())
+        .property("b", vector())
+        .property("c", vector())
+        .property("a_hat", matrix())
+        .property("b_hat", vector())
+        .required("a")
+        .required("b");
+    OneOfBuilder::new().item(strings(stored)).item(given)
+}
+
+/// A `prk` method's `constraint`.
+fn constraints() -> ObjectBuilder {
+    strings(Constraint::ALL.map(Constraint::id).to_vec())
+}
+
 /// `methods`: a non-empty list of method ids, `{"id": …, param: value}` objects or
 /// `{"id": …, "params": {param: value}}` objects, with a `composition` for the symmetric ones.
 pub(crate) fn methods() -> ArrayBuilder {
@@ -109,9 +137,14 @@ pub(crate) fn methods() -> ArrayBuilder {
         let (mut flat, mut params) =
             (closed().property("id", strings(vec![m.id])).required("id"), closed());
         let mut nested = closed();
-        if composable.contains(&m.id) {
+        // A method given by tableaux composes where its tableau and constraint are symmetric.
+        if composable.contains(&m.id) || m.by_tableau {
             flat = flat.property("composition", compositions());
             nested = nested.property("composition", compositions());
+        }
+        if m.by_tableau {
+            flat = flat.property("tableau", tableau()).property("constraint", constraints());
+            nested = nested.property("tableau", tableau()).property("constraint", constraints());
         }
         for p in m.params {
             flat = flat.property(p.name, bounded(p));

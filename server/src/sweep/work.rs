@@ -221,7 +221,7 @@ fn view_of(m: &MethodRequest) -> MethodView {
         id: m.id.clone(),
         params: m.params.iter().cloned().collect(),
         composition: m.composition.clone(),
-        tableau: None,
+        tableau: m.tableau.as_ref().map(crate::views::TableauEcho::requested),
         constraint: m.constraint.clone(),
         label: m.id.clone(),
     }

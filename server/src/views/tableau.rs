@@ -3,7 +3,7 @@
 
 use nhlab_core::methods::TableauChoice;
 use nhlab_core::methods::prk::stored::StoredTableau;
-use nhlab_core::methods::prk::tableau::Tableau;
+use nhlab_core::methods::prk::tableau::{Tableau, TableauSpec};
 use nhlab_core::methods::prk::{Constraint, Prk};
 use serde::Serialize;
 use utoipa::ToSchema;
@@ -16,25 +16,27 @@ pub struct TableauView {
     pub a: Vec<Vec<f64>>,
     /// s weights.
     pub b: Vec<f64>,
-    /// s nodes, the row sums of `a`.
-    pub c: Vec<f64>,
-    /// s rows of s.
-    pub a_hat: Vec<Vec<f64>>,
-    /// s weights.
-    pub b_hat: Vec<f64>,
+    /// s nodes, the row sums of `a` (absent only in the echo of a request that did not
+    /// resolve, where it was not given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub c: Option<Vec<f64>>,
+    /// s rows of s (absent as `c`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub a_hat: Option<Vec<Vec<f64>>>,
+    /// s weights (absent as `c`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub b_hat: Option<Vec<f64>>,
 }
 
 impl TableauView {
     /// The view of a tableau.
     pub fn of(t: &Tableau) -> Self {
-        let spec = t.spec();
-        Self {
-            c: spec.c.unwrap_or_default(),
-            a_hat: spec.a_hat.unwrap_or_default(),
-            b_hat: spec.b_hat.unwrap_or_default(),
-            a: spec.a,
-            b: spec.b,
-        }
+        Self::given(t.spec())
+    }
+
+    /// A tableau as a request gave it.
+    fn given(spec: TableauSpec) -> Self {
+        Self { a: spec.a, b: spec.b, c: spec.c, a_hat: spec.a_hat, b_hat: spec.b_hat }
     }
 }
 
@@ -54,6 +56,14 @@ impl TableauEcho {
         match m.stored {
             Some(id) => Self::Stored(id.into()),
             None => Self::Given(TableauView::of(&m.tableau)),
+        }
+    }
+
+    /// The echo of a tableau as a request gave it (a method that did not resolve).
+    pub fn requested(t: &TableauChoice) -> Self {
+        match t {
+            TableauChoice::Stored(id) => Self::Stored(id.clone()),
+            TableauChoice::Given(spec) => Self::Given(TableauView::given(spec.clone())),
         }
     }
 

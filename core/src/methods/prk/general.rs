@@ -112,8 +112,7 @@ impl<'a, const N: usize, const R: usize, M: Mechanical<N, R>> Solve<'a, N, R, M>
         let d = s * N + self.count * R;
         let (jac, swaps, res) = scratch.sized(d);
         let cfg = &self.prk.newton;
-        let mut done = false;
-        let mut iterations = 0;
+        let (mut done, mut iterations, mut previous) = (false, 0, f64::INFINITY);
         loop {
             self.evaluate(&mut x, &st.q);
             if done {
@@ -132,25 +131,28 @@ impl<'a, const N: usize, const R: usize, M: Mechanical<N, R>> Solve<'a, N, R, M>
             for i in 0..s {
                 for n in 0..N {
                     x.v[i][n] -= res[i * N + n];
-                    step = step.max(res[i * N + n].abs());
                     size = size.max(x.v[i][n].abs());
                 }
             }
             for g in 0..self.count {
                 for r in 0..R {
                     x.z[g][r] -= res[s * N + g * R + r];
-                    step = step.max(res[s * N + g * R + r].abs());
                     size = size.max(x.z[g][r].abs());
                 }
             }
-            if !step.is_finite() {
+            for &d in res.iter() {
+                step = step.max(d.abs());
+            }
+            if !res.iter().all(|d| d.is_finite()) {
                 return counted(iterations, Err(StepFailure::NonFinite));
             }
-            done = step <= cfg.tol * (1.0 + size)
-                || (iterations == cfg.max_iter && step <= cfg.stagnation_tol * (1.0 + size));
+            // Exact Newton: the error this update leaves is about δ²/δ' (C = 1).
+            let left = if previous.is_finite() { step * step / previous } else { f64::INFINITY };
+            done = cfg.converged(step, (left, step), previous, 1.0 + size);
             if iterations == cfg.max_iter && !done {
                 return counted(iterations, Err(StepFailure::NewtonDiverged { iterations, increment: step }));
             }
+            previous = step;
         }
         counted(iterations, Ok(()))?;
         let (dq, v1) = self.end(&x, &st.v);
@@ -200,7 +202,7 @@ impl<'a, const N: usize, const R: usize, M: Mechanical<N, R>> Solve<'a, N, R, M>
         (dq, v0 + self.sys.mass().solve(&p))
     }
 
-    /// The residual (negated into `res` as Newton solves J δ = res, x −= δ) and the Jacobian.
+    /// The residual into `res` (Newton solves J δ = res and takes x − δ) and the Jacobian.
     fn assemble(&self, x: &Stages<N, R>, st: &State<N, R>, jac: &mut [f64], res: &mut [f64]) {
         let (t, h, mass) = (&self.prk.tableau, self.h, self.sys.mass());
         let s = t.stages;

@@ -119,12 +119,13 @@ impl Tableau {
         };
         for (name, w) in [("b", &b), ("b_hat", &b_hat)] {
             let sum: f64 = w[..s].iter().sum();
-            if (sum - 1.0).abs() > TOLERANCE {
+            if !((sum - 1.0).abs() <= TOLERANCE) {
                 return Err(error(name, format!("the weights {name} sum to {sum}, not 1 (order 1 needs Σ{name} = 1)")));
             }
         }
         let sums = row_sums(&a);
-        if let Some(i) = (0..s).find(|&i| (sums[i] - c[i]).abs() > TOLERANCE) {
+        // Also refused where a row sum overflows: NaN fails every comparison.
+        if let Some(i) = (0..s).find(|&i| !((sums[i] - c[i]).abs() <= TOLERANCE)) {
             return Err(error(
                 &format!("c[{i}]"),
                 format!("c[{i}] = {}, but row {i} of a sums to {}: c_i = Σ_j a_ij", c[i], sums[i]),
@@ -173,6 +174,51 @@ impl Tableau {
         (0..self.stages).filter(|&i| self.a[i][..self.stages].iter().any(|&x| x != 0.0))
     }
 
+    /// Whether the stage conditions fix the multipliers: to first order in h the conditions
+    /// read the multipliers through `(a â)_ij A M⁻¹ Aᵀ` (rows: the constrained stages,
+    /// columns: the forced ones), so that matrix must be invertible. Classical RK4 has as
+    /// many rows as columns, but its first condition sees no multiplier: refused.
+    pub fn stage_conditions_fix_multipliers(&self) -> bool {
+        let s = self.stages;
+        let rows: Vec<usize> = self.constrained_stages().collect();
+        let cols: Vec<usize> = self.forced_stages().collect();
+        if rows.len() != cols.len() {
+            return false;
+        }
+        let k = rows.len();
+        let mut m = [[0.0; MAX_STAGES]; MAX_STAGES];
+        let mut scale = 0.0_f64;
+        for (r, &i) in rows.iter().enumerate() {
+            for (c, &j) in cols.iter().enumerate() {
+                m[r][c] = (0..s).map(|l| self.a[i][l] * self.a_hat[l][j]).sum();
+                scale = scale.max(m[r][c].abs());
+            }
+        }
+        // Gaussian elimination with partial pivoting; a pivot below round-off is singular.
+        for p in 0..k {
+            let best = (p..k).max_by(|&x, &y| m[x][p].abs().total_cmp(&m[y][p].abs())).unwrap_or(p);
+            if !(m[best][p].abs() > 1e-12 * scale) {
+                return false;
+            }
+            m.swap(p, best);
+            for r in p + 1..k {
+                let f = m[r][p] / m[p][p];
+                for c in p..k {
+                    m[r][c] -= f * m[p][c];
+                }
+            }
+        }
+        true
+    }
+
+    /// Whether the midpoint condition fixes its multiplier: to first order it reads it
+    /// through `Σ_j b_j Σ_l â_jl` (½ for a method of order 2), which must not vanish.
+    pub fn midpoint_condition_fixes_its_multiplier(&self) -> bool {
+        let s = self.stages;
+        let weight: f64 = (0..s).map(|j| self.b[j] * self.a_hat[j][..s].iter().sum::<f64>()).sum();
+        weight.abs() > TOLERANCE
+    }
+
     /// Whether the end projection is the last stage's own constraint force, as in the
     /// Lobatto IIIA–IIIB pairs: the last stage is the step's end (`a`'s last row is `b`), and
     /// its multiplier enters no stage (`a_hat`'s last column is zero) but the end velocity.
@@ -181,5 +227,38 @@ impl Tableau {
         (0..s).all(|j| (self.a[s - 1][j] - self.b[j]).abs() <= TOLERANCE)
             && (0..s).all(|i| self.a_hat[i][s - 1] == 0.0)
             && self.b_hat[s - 1] != 0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(a: Vec<Vec<f64>>, b: Vec<f64>) -> TableauSpec {
+        TableauSpec { a, b, ..TableauSpec::default() }
+    }
+
+    #[test]
+    fn overflowing_rows_and_bad_weights_are_refused_at_their_entry() {
+        let huge = spec(vec![vec![1e308, 1e308], vec![1e308, 1e308]], vec![2.0, -1.0]);
+        let e = Tableau::checked(&huge).unwrap_err();
+        assert_eq!(e.field(), "tableau.c[0]", "{e}");
+        let e = Tableau::checked(&spec(vec![vec![0.5]], vec![f64::NAN])).unwrap_err();
+        assert_eq!(e.field(), "tableau.b[0]", "{e}");
+    }
+
+    #[test]
+    fn stage_conditions_fix_the_multipliers_of_gauss_not_of_rk4() {
+        let r3 = 3f64.sqrt();
+        let gauss2 = spec(vec![vec![0.25, 0.25 - r3 / 6.0], vec![0.25 + r3 / 6.0, 0.25]], vec![0.5, 0.5]);
+        assert!(Tableau::checked(&gauss2).unwrap().stage_conditions_fix_multipliers());
+        let rk4 = spec(
+            vec![vec![0.0; 4], vec![0.5, 0.0, 0.0, 0.0], vec![0.0, 0.5, 0.0, 0.0], vec![0.0, 0.0, 1.0, 0.0]],
+            vec![1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0],
+        );
+        let rk4 = Tableau::checked(&rk4).unwrap();
+        assert_eq!((rk4.constrained_stages().count(), rk4.forced_stages().count()), (3, 3));
+        assert!(!rk4.stage_conditions_fix_multipliers());
+        assert!(rk4.midpoint_condition_fixes_its_multiplier());
     }
 }
