@@ -113,7 +113,8 @@ fn conditions_met(t: &Tableau) -> u32 {
         }
         let w = if tree.white { &t.b_hat } else { &t.b };
         let lhs: f64 = (0..s).map(|i| w[i] * p[i]).sum();
-        if !((lhs - 1.0 / tree.density).abs() <= TOLERANCE) {
+        let holds = (lhs - 1.0 / tree.density).abs() <= TOLERANCE;
+        if !holds {
             order = tree.order - 1;
         }
         psi.push(p);

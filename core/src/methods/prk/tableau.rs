@@ -56,6 +56,11 @@ pub enum TableauChoice {
     Given(TableauSpec),
 }
 
+/// Whether `x` and `y` are equal to [`TOLERANCE`]; false where either is NaN.
+fn close(x: f64, y: f64) -> bool {
+    (x - y).abs() <= TOLERANCE
+}
+
 fn error(field: &str, message: String) -> InputError {
     InputError::Tableau { field: format!("tableau.{field}"), message }
 }
@@ -119,13 +124,13 @@ impl Tableau {
         };
         for (name, w) in [("b", &b), ("b_hat", &b_hat)] {
             let sum: f64 = w[..s].iter().sum();
-            if !((sum - 1.0).abs() <= TOLERANCE) {
+            if !close(sum, 1.0) {
                 return Err(error(name, format!("the weights {name} sum to {sum}, not 1 (order 1 needs Σ{name} = 1)")));
             }
         }
         let sums = row_sums(&a);
         // Also refused where a row sum overflows: NaN fails every comparison.
-        if let Some(i) = (0..s).find(|&i| !((sums[i] - c[i]).abs() <= TOLERANCE)) {
+        if let Some(i) = (0..s).find(|&i| !close(sums[i], c[i])) {
             return Err(error(
                 &format!("c[{i}]"),
                 format!("c[{i}] = {}, but row {i} of a sums to {}: c_i = Σ_j a_ij", c[i], sums[i]),
@@ -197,14 +202,17 @@ impl Tableau {
         // Gaussian elimination with partial pivoting; a pivot below round-off is singular.
         for p in 0..k {
             let best = (p..k).max_by(|&x, &y| m[x][p].abs().total_cmp(&m[y][p].abs())).unwrap_or(p);
-            if !(m[best][p].abs() > 1e-12 * scale) {
+            let pivot = m[best][p].abs();
+            if pivot.is_nan() || pivot <= 1e-12 * scale {
                 return false;
             }
             m.swap(p, best);
-            for r in p + 1..k {
-                let f = m[r][p] / m[p][p];
-                for c in p..k {
-                    m[r][c] -= f * m[p][c];
+            let (top, below) = m.split_at_mut(p + 1);
+            let pivot_row = &top[p];
+            for row in below.iter_mut().take(k - p - 1) {
+                let f = row[p] / pivot_row[p];
+                for (x, y) in row[p..k].iter_mut().zip(&pivot_row[p..k]) {
+                    *x -= f * y;
                 }
             }
         }
