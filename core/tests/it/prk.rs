@@ -4,7 +4,7 @@
 //! the Chaplygin sleigh; symmetry where declared; bad tableaux refused at their field.
 
 use crate::common::knife_exact;
-use crate::spark::{observed, sleigh};
+use crate::spark::{observed, sleigh, sleigh_error};
 use nhlab_core::measure::reference::reference;
 use nhlab_core::methods::prk::stored::stored;
 use nhlab_core::methods::{Prk, TableauChoice};
@@ -88,13 +88,7 @@ fn every_stored_tableau_reaches_its_declared_order_on_the_chaplygin_sleigh() {
     let mut failures = Vec::new();
     each(|id, c, m| {
         let order = m.order();
-        let err = |n: u32| {
-            let (mut st, mut memory) = (start, GeneralMemory::empty());
-            for _ in 0..n {
-                m.step_general(&sys, &mut st, &mut memory, t_end / n as f64).unwrap();
-            }
-            (st.q - r.q).amax().max((st.v - r.v).amax())
-        };
+        let err = |n| sleigh_error(&sys, &m, &start, (&r.q, &r.v), t_end, n);
         let (p, shown) = observed(order, t_end, err);
         println!("chaplygin_sleigh {id} {c}: declared {order}, measured {p:.2}, {shown:?}");
         if p < order as f64 - 0.2 - 0.05 * order as f64 {

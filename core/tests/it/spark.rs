@@ -107,6 +107,23 @@ pub(crate) fn sleigh() -> (ChaplyginSleigh, State<3, 1>) {
     (sys, start)
 }
 
+/// The largest error in (q, q̇) after n steps of `m` from `start` to `t_end` on `sys`, against
+/// the reference's end `(q, v)`.
+pub(crate) fn sleigh_error(
+    sys: &ChaplyginSleigh,
+    m: &Method,
+    start: &State<3, 1>,
+    (q, v): (&Vector<3>, &Vector<3>),
+    t_end: f64,
+    n: u32,
+) -> f64 {
+    let (mut st, mut memory) = (*start, GeneralMemory::empty());
+    for _ in 0..n {
+        m.step_general(sys, &mut st, &mut memory, t_end / n as f64).unwrap();
+    }
+    (st.q - q).amax().max((st.v - v).amax())
+}
+
 #[test]
 fn spark_reaches_order_2s_minus_2_on_the_chaplygin_sleigh() {
     let (sys, start) = sleigh();
@@ -116,13 +133,7 @@ fn spark_reaches_order_2s_minus_2_on_the_chaplygin_sleigh() {
     for s in 2..=5 {
         let m = spark(s);
         let order = m.order();
-        let err = |n: u32| {
-            let (mut st, mut memory) = (start, GeneralMemory::empty());
-            for _ in 0..n {
-                m.step_general(&sys, &mut st, &mut memory, t_end / n as f64).unwrap();
-            }
-            (st.q - r.q).amax().max((st.v - r.v).amax())
-        };
+        let err = |n| sleigh_error(&sys, &m, &start, (&r.q, &r.v), t_end, n);
         let (p, shown) = observed(order, t_end, err);
         println!("chaplygin_sleigh {}: order {p:.2}, errors {shown:?}", m.label());
         if (p - order as f64).abs() > 0.2 + 0.05 * order as f64 {
