@@ -14,7 +14,7 @@ const sleigh = find('chaplygin_sleigh');
 const disk = find('vertical_disk');
 const ids = (methods) => methods.map((m) => m.id);
 
-// The sleigh in the general form, as tests/tests/general_form.rs sends it.
+// The sleigh in the general form, as tests/tests/http/general_form.rs sends it.
 const SLEIGH = {
   name: 'Chaplygin sleigh',
   coordinates: ['x', 'y', 'theta'],
