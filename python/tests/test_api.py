@@ -218,28 +218,25 @@ def test_bad_input_raises_value_error_with_the_http_message_and_path(http, call,
     assert str(e) == f"{answer['path']}: {answer['error']}"
 
 
-def test_threads_run_in_parallel():
-    """The lock is released while nhlab computes: two threads on two cores take about the
-    time of one, where holding it would take two."""
-    if len(os.sched_getaffinity(0)) < 2:
-        pytest.skip("needs two cores")
+def test_lock_released_while_computing():
+    """The interpreter's lock is released while nhlab computes: a Python thread keeps running
+    beside a long call. Measured as the longest pause of the main thread's loop while the call
+    runs in another thread, against the call's length; held, the lock would stop the loop for
+    the whole call. No wall-clock ratio of two runs, so a loaded machine does not fail it."""
     run = lambda: nhlab.simulate("cvt_pendulum", preset="rotating-perturbed", t_end=400000,
                                  methods=["leapfrog"], points=10)
     run()  # warm: the runtime and the latitude axis
-    best_one, best_two = math.inf, math.inf
-    for _ in range(3):
-        start = time.perf_counter()
-        run()
-        best_one = min(best_one, time.perf_counter() - start)
-        threads = [threading.Thread(target=run) for _ in range(2)]
-        start = time.perf_counter()
-        for t in threads:
-            t.start()
-        for t in threads:
-            t.join()
-        best_two = min(best_two, time.perf_counter() - start)
-    # Two runs in parallel: well under the 2× of running them one after the other.
-    assert best_two < 1.6 * best_one, (best_one, best_two)
+    worker = threading.Thread(target=run)
+    start = time.perf_counter()
+    last, longest_pause = start, 0.0
+    worker.start()
+    while worker.is_alive():
+        now = time.perf_counter()
+        longest_pause, last = max(longest_pause, now - last), now
+    length = time.perf_counter() - start
+    worker.join()
+    assert length > 0.05, length  # long enough for a pause to show
+    assert longest_pause < 0.5 * length, (longest_pause, length)
 
 
 def test_import_is_fast():
