@@ -206,11 +206,61 @@ pub(crate) fn smallest_cholesky_pivot<const R: usize>(g: &Matrix<R, R>) -> f64 {
     smallest
 }
 
+/// Calls `$body` with `$d` a constant for the sizes up to 8 (the SPARK Schur complements of
+/// small systems): the loops of [`lu_rows`] and [`substitute`], inlined at a known size, lose
+/// their bounds checks and unroll. One algorithm, specialized by the compiler, not a second
+/// one by hand; larger sizes take it as written.
+macro_rules! by_size {
+    ($d:expr, |$n:ident| $body:expr) => {
+        match $d {
+            1 => {
+                let $n = 1;
+                $body
+            }
+            2 => {
+                let $n = 2;
+                $body
+            }
+            3 => {
+                let $n = 3;
+                $body
+            }
+            4 => {
+                let $n = 4;
+                $body
+            }
+            5 => {
+                let $n = 5;
+                $body
+            }
+            6 => {
+                let $n = 6;
+                $body
+            }
+            7 => {
+                let $n = 7;
+                $body
+            }
+            8 => {
+                let $n = 8;
+                $body
+            }
+            $n => $body,
+        }
+    };
+}
+
 /// LU with partial pivoting, in place, of the d×d matrix stored row by row in `a[..d·d]`, for
 /// systems whose size const generics cannot state (a SPARK step's s·N + (s − 1)·R unknowns).
 /// The rows are swapped where they lie; `swaps[k]` is the row swapped with row k. `None` when
 /// a pivot is zero or not finite (singular matrix).
 pub(crate) fn lu_in_place(a: &mut [f64], d: usize, swaps: &mut [usize]) -> Option<()> {
+    by_size!(d, |d| lu_rows(&mut a[..d * d], d, &mut swaps[..d]))
+}
+
+/// [`lu_in_place`]'s elimination on `a` of exactly d·d entries.
+#[inline(always)]
+fn lu_rows(a: &mut [f64], d: usize, swaps: &mut [usize]) -> Option<()> {
     for k in 0..d {
         let (mut piv, mut largest) = (k, a[k * d + k].abs());
         for i in k + 1..d {
@@ -247,6 +297,12 @@ pub(crate) fn lu_in_place(a: &mut [f64], d: usize, swaps: &mut [usize]) -> Optio
 
 /// Solves `A x = b` in place (`b` becomes x) with the factors of [`lu_in_place`].
 pub(crate) fn lu_solve_in_place(a: &[f64], d: usize, swaps: &[usize], b: &mut [f64]) {
+    by_size!(d, |d| substitute(&a[..d * d], d, &swaps[..d], &mut b[..d]))
+}
+
+/// [`lu_solve_in_place`]'s two substitutions, on exactly d·d, d and d entries.
+#[inline(always)]
+fn substitute(a: &[f64], d: usize, swaps: &[usize], b: &mut [f64]) {
     for (k, &swap) in swaps[..d].iter().enumerate() {
         b.swap(k, swap);
     }
@@ -313,6 +369,33 @@ mod tests {
         let fixed = Lu::new(a).expect("regular").solve(&b);
         assert!(x.iter().zip(fixed.iter()).all(|(u, v)| (u - v).abs() < 1e-13), "{x:?}");
         assert!(lu_in_place(&mut [1.0, 2.0, 2.0, 4.0], 2, &mut [0; 2]).is_none(), "singular");
+    }
+
+    /// The sizes `by_size` takes as constants give the factors and solutions of the loops at a
+    /// size known only when they run, bit for bit; every size solves its system.
+    #[test]
+    fn the_lu_at_a_constant_size_is_the_lu_as_written() {
+        for d in 1..=10 {
+            // Off-diagonal entries larger than the diagonal: every column pivots.
+            let a: Vec<f64> = (0..d * d)
+                .map(
+                    |k| if k / d == k % d { 0.1 } else { 1.0 + ((k / d) * (k % d) + k % 3) as f64 },
+                )
+                .collect();
+            let b: Vec<f64> = (0..d).map(|i| 1.0 - 0.3 * i as f64).collect();
+            let (mut fast, mut fast_swaps, mut x) = (a.clone(), vec![0; d], b.clone());
+            lu_in_place(&mut fast, d, &mut fast_swaps).expect("regular");
+            lu_solve_in_place(&fast, d, &fast_swaps, &mut x);
+            let (mut written, mut swaps, mut y) = (a.clone(), vec![0; d], b.clone());
+            let at_run_time = std::hint::black_box(d);
+            lu_rows(&mut written, at_run_time, &mut swaps).expect("regular");
+            substitute(&written, at_run_time, &swaps, &mut y);
+            assert_eq!((&fast, &fast_swaps, &x), (&written, &swaps, &y), "d = {d}");
+            for i in 0..d {
+                let ax: f64 = (0..d).map(|j| a[i * d + j] * x[j]).sum();
+                assert!((ax - b[i]).abs() < 1e-10, "d = {d}, row {i}: {ax} against {}", b[i]);
+            }
+        }
     }
 
     #[test]

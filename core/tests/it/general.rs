@@ -291,7 +291,8 @@ fn dd_keeps_the_energy_over_a_million_steps_off_the_class() {
 /// not assert.
 #[test]
 fn every_method_takes_the_free_sleigh_to_straight_motion() {
-    let scene = Scene::resolve(&request("chaplygin_sleigh", "free")).unwrap().prepare(None).unwrap();
+    let scene =
+        Scene::resolve(&request("chaplygin_sleigh", "free")).unwrap().prepare(None).unwrap();
     for m in general_methods() {
         let (label, end) = (m.label(), run(&scene, &m));
         let (speed, turning) = (end.v[0].hypot(end.v[1]), end.v[2]);

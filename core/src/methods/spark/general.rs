@@ -186,6 +186,7 @@ impl<const S: usize, const N: usize, const R: usize, M: Mechanical<N, R>> Stages
                     Linear::Structured => {
                         let d = (S - 1) * R;
                         let (a, swaps, _) = schur_buf.sized(d);
+                        self.through_t(&mut pieces);
                         self.schur(a, d, &pieces);
                         lu_in_place(a, d, swaps)
                     }
@@ -327,24 +328,51 @@ impl<const S: usize, const N: usize, const R: usize, M: Mechanical<N, R>> Stages
         std::array::from_fn(|i| x[i] + once[i] + twice[i])
     }
 
-    /// The Schur complement S = G_Z − G_Q T E_Z on the multipliers, row by row into `out`
-    /// ((s − 1)R square).
+    /// G_Q T = G_Q (I + hP + (hP)²), block by block: (G_Q hP)_km = (Σ_i h (aā)_im G_Q,ki) W_m,
+    /// and (hP)² as hP once more. One row of blocks per constraint stage, so that neither the
+    /// Schur complement nor the right-hand side applies T to a column at a time.
+    fn through_t(&self, p: &mut Pieces<S, N, R>) {
+        let once = self.times_hp(&p.gq, p);
+        let twice = self.times_hp(&once, p);
+        for k in 1..S {
+            for i in 1..S {
+                p.gt[k][i] = p.gq[k][i] + once[k][i] + twice[k][i];
+            }
+        }
+    }
+
+    /// X hP for a row of blocks per constraint stage: (X hP)_km = (Σ_i h (aā)_im X_ki) W_m.
+    fn times_hp(&self, x: &[[Matrix<R, N>; S]; S], p: &Pieces<S, N, R>) -> [[Matrix<R, N>; S]; S] {
+        let (t, h) = (self.t, self.h);
+        let mut y = [[Matrix::<R, N>::zeros(); S]; S];
+        for k in 1..S {
+            for m in 1..S - 1 {
+                let mut weighted = Matrix::<R, N>::zeros();
+                for i in 1..S {
+                    weighted += (h * t.aa[i][m]) * x[k][i];
+                }
+                y[k][m] = weighted * p.w[m];
+            }
+        }
+        y
+    }
+
+    /// The Schur complement S = G_Z − G_Q T E_Z on the multipliers into `out` ((s − 1)R
+    /// square, row-major): as E_Z's blocks are −h (aā)_im U_m, its (k, m) block is
+    /// (C_km + Σ_i h (aā)_im (G_Q T)_ki) U_m.
     fn schur(&self, out: &mut [f64], d: usize, p: &Pieces<S, N, R>) {
         let (t, h) = (self.t, self.h);
-        for m in 0..S - 1 {
-            for col in 0..R {
-                // Column `col` of Z_m's block: E_Z's column, then T of it.
-                let e: [Vector<N>; S] = std::array::from_fn(|i| {
-                    if i == 0 { Vector::zeros() } else { (-h * t.aa[i][m]) * p.u[m].column(col) }
-                });
-                let te = self.t_times(p, &e);
-                for k in 1..S {
-                    let mut s = p.c[k][m] * p.u[m].column(col);
-                    for i in 1..S {
-                        s -= p.gq[k][i] * te[i];
-                    }
-                    for row in 0..R {
-                        out[((k - 1) * R + row) * d + m * R + col] = s[row];
+        for k in 1..S {
+            for m in 0..S - 1 {
+                let mut left = p.c[k][m];
+                for i in 1..S {
+                    left += (h * t.aa[i][m]) * p.gt[k][i];
+                }
+                let block = left * p.u[m];
+                for row in 0..R {
+                    let line = ((k - 1) * R + row) * d + m * R;
+                    for col in 0..R {
+                        out[line + col] = block[(row, col)];
                     }
                 }
             }
@@ -388,11 +416,10 @@ impl<const S: usize, const N: usize, const R: usize, M: Mechanical<N, R>> Stages
     ) -> ([Vector<N>; S], [Vector<R>; S]) {
         let (t, h) = (self.t, self.h);
         let (r_e, r_g) = self.residuals(q0, it);
-        let t_r = self.t_times(p, &r_e);
         for k in 1..S {
             let mut g = -r_g[k];
             for i in 1..S {
-                g += p.gq[k][i] * t_r[i];
+                g += p.gt[k][i] * r_e[i];
             }
             rhs[(k - 1) * R..k * R].copy_from_slice(g.as_slice());
         }
@@ -488,14 +515,17 @@ fn put<const P: usize, const Q: usize>(jac: &mut [f64], d: usize, (row, col): (u
 /// W_m = O(h) (its terms are h∇²V and ∂(AᵀZ)/∂q with Z = hΛ), so hP = O(h²) and
 /// T = I + hP + (hP)² inverts I − hP up to O(h⁶) (ρ³/(1 − ρ) with ρ = ‖hP‖): eliminating δQ
 /// with T leaves a Schur complement on the multipliers alone, (s − 1)R unknowns, and an
-/// iteration whose rate is that beyond Newton's. Every other product is one of fixed-size
-/// blocks. For s = 2, hP = 0 and it is Newton's.
+/// iteration whose rate is that beyond Newton's. T enters through G_Q T, formed once per
+/// Jacobian (R rows per stage), and once applied to a vector for δQ. Every other product is
+/// one of fixed-size blocks. For s = 2, hP = 0 and it is Newton's.
 struct Pieces<const S: usize, const N: usize, const R: usize> {
     rho: f64,
     w: [Matrix<N, N>; S],
     u: [Matrix<N, R>; S],
     c: [[Matrix<R, N>; S]; S],
     gq: [[Matrix<R, N>; S]; S],
+    /// G_Q T, the structured solve's ([`Stages::through_t`]).
+    gt: [[Matrix<R, N>; S]; S],
 }
 
 impl<const S: usize, const N: usize, const R: usize> Pieces<S, N, R> {
@@ -506,6 +536,7 @@ impl<const S: usize, const N: usize, const R: usize> Pieces<S, N, R> {
             u: [Matrix::zeros(); S],
             c: [[Matrix::zeros(); S]; S],
             gq: [[Matrix::zeros(); S]; S],
+            gt: [[Matrix::zeros(); S]; S],
         }
     }
 }
