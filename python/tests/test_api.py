@@ -4,7 +4,6 @@ a fast import."""
 
 import json
 import math
-import os
 import subprocess
 import sys
 import threading
@@ -218,25 +217,63 @@ def test_bad_input_raises_value_error_with_the_http_message_and_path(http, call,
     assert str(e) == f"{answer['path']}: {answer['error']}"
 
 
+def long_call():
+    """A call of some tenths of a second (4·10⁶ leap-frog steps)."""
+    return nhlab.simulate("cvt_pendulum", preset="rotating-perturbed", t_end=400000,
+                          methods=["leapfrog"], points=10)
+
+
+def in_thread(call):
+    """`call` started in a thread; the thread and the list its exception, if any, lands in."""
+    raised = []
+
+    def target():
+        try:
+            call()
+        except BaseException as e:  # handed to the test, which fails with it
+            raised.append(e)
+
+    thread = threading.Thread(target=target)
+    thread.start()
+    return thread, raised
+
+
 def test_lock_released_while_computing():
     """The interpreter's lock is released while nhlab computes: a Python thread keeps running
     beside a long call. Measured as the longest pause of the main thread's loop while the call
     runs in another thread, against the call's length; held, the lock would stop the loop for
-    the whole call. No wall-clock ratio of two runs, so a loaded machine does not fail it."""
-    run = lambda: nhlab.simulate("cvt_pendulum", preset="rotating-perturbed", t_end=400000,
-                                 methods=["leapfrog"], points=10)
-    run()  # warm: the runtime and the latitude axis
-    worker = threading.Thread(target=run)
+    the whole call. No wall-clock ratio of two runs, so a loaded machine does not fail it. The
+    loop sleeps between looks, so that it does not take a core from the computation (which
+    runs at a lower priority)."""
+    long_call()  # warm: the runtime and the latitude axis
     start = time.perf_counter()
+    worker, raised = in_thread(long_call)
     last, longest_pause = start, 0.0
-    worker.start()
     while worker.is_alive():
+        time.sleep(0.001)
         now = time.perf_counter()
         longest_pause, last = max(longest_pause, now - last), now
     length = time.perf_counter() - start
     worker.join()
+    assert not raised, raised
     assert length > 0.05, length  # long enough for a pause to show
     assert longest_pause < 0.5 * length, (longest_pause, length)
+
+
+def test_threads_compute_at_once():
+    """Two threads' calls compute at the same time, not one after the other: `/health` counts
+    two runs active at once while both are in flight. A state seen, not a time measured, so
+    the number of free cores does not decide it."""
+    calls = [in_thread(long_call) for _ in range(2)]
+    most = 0
+    while any(thread.is_alive() for thread, _ in calls) and most < 2:
+        health = json.loads(nhlab._call("GET", "/health"))
+        most = max(most, health["active_runs"])
+        time.sleep(0.001)
+    for thread, raised in calls:
+        thread.join()
+        assert not raised, raised
+    assert most == 2, f"never two runs at once (at most {most})"
 
 
 def test_import_is_fast():
