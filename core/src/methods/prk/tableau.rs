@@ -6,6 +6,7 @@
 //! sums); [`Tableau::symmetric`] says whether the pair is symmetric.
 
 use crate::InputError;
+use crate::linalg::lu_in_place;
 
 /// Most stages a tableau may have.
 pub const MAX_STAGES: usize = 5;
@@ -191,32 +192,17 @@ impl Tableau {
             return false;
         }
         let k = rows.len();
-        let mut m = [[0.0; MAX_STAGES]; MAX_STAGES];
-        let mut scale = 0.0_f64;
+        let mut m = [0.0; MAX_STAGES * MAX_STAGES];
         for (r, &i) in rows.iter().enumerate() {
             for (c, &j) in cols.iter().enumerate() {
-                m[r][c] = (0..s).map(|l| self.a[i][l] * self.a_hat[l][j]).sum();
-                scale = scale.max(m[r][c].abs());
+                m[r * k + c] = (0..s).map(|l| self.a[i][l] * self.a_hat[l][j]).sum();
             }
         }
-        // Gaussian elimination with partial pivoting; a pivot below round-off is singular.
-        for p in 0..k {
-            let best = (p..k).max_by(|&x, &y| m[x][p].abs().total_cmp(&m[y][p].abs())).unwrap_or(p);
-            let pivot = m[best][p].abs();
-            if pivot.is_nan() || pivot <= 1e-12 * scale {
-                return false;
-            }
-            m.swap(p, best);
-            let (top, below) = m.split_at_mut(p + 1);
-            let pivot_row = &top[p];
-            for row in below.iter_mut().take(k - p - 1) {
-                let f = row[p] / pivot_row[p];
-                for (x, y) in row[p..k].iter_mut().zip(&pivot_row[p..k]) {
-                    *x -= f * y;
-                }
-            }
-        }
-        true
+        let scale = m[..k * k].iter().fold(0.0_f64, |x, y| x.max(y.abs()));
+        // LU with partial pivoting; a pivot below round-off is singular.
+        let mut swaps = [0; MAX_STAGES];
+        lu_in_place(&mut m[..k * k], k, &mut swaps[..k]).is_some()
+            && (0..k).all(|p| m[p * k + p].abs() > 1e-12 * scale)
     }
 
     /// Whether the midpoint condition fixes its multiplier: to first order it reads it
