@@ -17,7 +17,9 @@
 //! stage velocities lie off the constraint by O(h^{s−1}), the end point on it. On a class
 //! system it runs through the general form.
 
+mod class;
 mod general;
+mod response;
 pub(crate) mod tableau;
 
 use crate::methods::general_memory::GeneralMemory;
@@ -34,10 +36,12 @@ pub struct Spark {
     pub stages: u8,
     /// Newton's settings.
     pub newton: NewtonConfig,
-    /// Solve each iteration's linear system with its structure (a Schur complement on the
-    /// multipliers, `spark/general.rs`) where the step is small enough for it, densely
-    /// elsewhere; `false` forces the dense solve of the whole system, which it is tested
-    /// against.
+    /// On the paper's class with a quadratic U of diagonal Hessian, take the class step
+    /// (`spark/class.rs`: the driver alone, then one linear solve for the multipliers);
+    /// elsewhere solve each Newton iteration's linear system with its structure (a Schur
+    /// complement on the multipliers, `spark/general.rs`) where the step is small enough for
+    /// it, densely otherwise. `false` forces the general step with the dense solve of the
+    /// whole system, which both are tested against.
     pub fast_path: bool,
 }
 
@@ -92,6 +96,9 @@ impl Integrator for Spark {
     fn params(&self) -> Vec<f64> {
         vec![f64::from(self.stages)]
     }
+    fn general_path(&self) -> Option<Self> {
+        Some(Self { fast_path: false, ..*self })
+    }
     fn order(&self) -> u32 {
         2 * u32::from(self.stages) - 2
     }
@@ -113,6 +120,11 @@ impl Stepper for Spark {
         mem: &mut GeneralMemory<N, R>,
         h: f64,
     ) -> Result<(), StepFailure> {
+        if self.fast_path
+            && let Some(kappa) = class::diagonal_hessian(sys, &st.q)
+        {
+            return self.step_class(sys, st, mem, h, &kappa);
+        }
         self.step_general(&General(sys), st, mem, h)
     }
 }

@@ -10,7 +10,7 @@
 
 use crate::common::{case, preset_start, size, step_difference};
 use nhlab_core::BuiltIn;
-use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01};
+use nhlab_core::methods::{Dd, DdAvf, Dla, Dla01, Spark};
 use nhlab_core::{BaseMethod, Method};
 
 const STEPS: usize = 2000;
@@ -24,9 +24,14 @@ fn pairs() -> Vec<(Method, Method)> {
         Method::from(Dd::default()),
         Method::from(DdAvf::default()),
     ];
-    let out: Vec<_> =
-        dla.into_iter().chain(others).filter_map(|m| Some((m, m.general_path()?))).collect();
-    assert_eq!(out.len(), 6, "every fast path has its general path");
+    let spark = (2..=5).map(|stages| Method::from(Spark { stages, ..Spark::default() }));
+    let out: Vec<_> = dla
+        .into_iter()
+        .chain(others)
+        .chain(spark)
+        .filter_map(|m| Some((m, m.general_path()?)))
+        .collect();
+    assert_eq!(out.len(), 10, "every fast path has its general path");
     // A general path equal to the fast one would make the comparison below vacuous.
     assert!(out.iter().all(|(fast, general)| fast != general));
     out
