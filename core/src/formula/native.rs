@@ -1,19 +1,26 @@
 //! Whether formulas run as machine code in this process, and if not, why
 //! ([`native_code_status`]). They fall back to the tape's interpreter when the JIT is left
-//! out of the build (cargo feature `jit`) or when Cranelift fails (`Jitted::compile`
-//! returns a [`JitError`]: a host it does not support, memory it cannot map executable).
+//! out of the build (cargo feature `jit`), when the environment turns it off
+//! (`NHLAB_JIT=off`: the interpreter alone, without a second build), or when Cranelift fails
+//! (`Jitted::compile` returns a [`JitError`]: a host it does not support, memory it cannot map
+//! executable).
 //! The numbers are the same, only slower, so nothing else would show it. The core does no
 //! logging: a caller registers [`on_interpreter_fallback`] to say it once (the server logs a
 //! warning) and reads the status where it reports its health.
 
 use super::error::JitError;
-use std::sync::{Mutex, MutexGuard, PoisonError};
+use std::sync::{Mutex, MutexGuard, OnceLock, PoisonError};
+
+/// The environment variable that turns machine code off: `NHLAB_JIT=off`.
+const JIT_VARIABLE: &str = "NHLAB_JIT";
 
 /// How formulas run in this process; see the module's doc.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct NativeCodeStatus {
     /// Whether the JIT is built in (cargo feature `jit`).
     pub compiled_in: bool,
+    /// Whether the environment turns it off (`NHLAB_JIT=off`).
+    pub turned_off: bool,
     /// Cranelift's first failure in this process, if it has failed.
     pub failure: Option<JitError>,
 }
@@ -21,15 +28,17 @@ pub struct NativeCodeStatus {
 impl NativeCodeStatus {
     /// Whether formulas are compiled to machine code (those of at most
     /// [`MAX_NATIVE`](super::function::MAX_NATIVE) instructions; longer ones are always
-    /// interpreted): the JIT is built in and has never failed.
+    /// interpreted): the JIT is built in, not turned off, and has never failed.
     pub fn native(&self) -> bool {
-        self.compiled_in && self.failure.is_none()
+        self.compiled_in && !self.turned_off && self.failure.is_none()
     }
 
     /// Why formulas run on the interpreter, as a sentence; `None` when they do not.
     pub fn why_not(&self) -> Option<String> {
         if !self.compiled_in {
             Some("built without the `jit` feature: formulas run on the interpreter".into())
+        } else if self.turned_off {
+            Some(format!("{JIT_VARIABLE}=off in the environment: formulas run on the interpreter"))
         } else {
             let failure = self.failure.as_ref()?;
             Some(format!("{failure}: formulas run on the interpreter"))
@@ -57,7 +66,17 @@ fn record() -> MutexGuard<'static, Record> {
 }
 
 fn status_of(record: &Record) -> NativeCodeStatus {
-    NativeCodeStatus { compiled_in: cfg!(feature = "jit"), failure: record.failure.clone() }
+    NativeCodeStatus {
+        compiled_in: cfg!(feature = "jit"),
+        turned_off: turned_off(),
+        failure: record.failure.clone(),
+    }
+}
+
+/// Whether `NHLAB_JIT=off` is set (read once per process; any other value leaves the JIT on).
+fn turned_off() -> bool {
+    static OFF: OnceLock<bool> = OnceLock::new();
+    *OFF.get_or_init(|| std::env::var_os(JIT_VARIABLE).is_some_and(|v| v == "off"))
 }
 
 /// The report to make now, marked made: when formulas have fallen back, a report is
@@ -100,9 +119,13 @@ pub fn on_interpreter_fallback(report: fn(&str)) {
     probe();
 }
 
-/// `tape` as machine code, or `None` where Cranelift fails (the failure recorded).
+/// `tape` as machine code, or `None` where Cranelift fails (the failure recorded) or the
+/// environment turns it off.
 #[cfg(feature = "jit")]
 pub(super) fn compile(tape: &super::Tape) -> Option<super::Jitted> {
+    if turned_off() {
+        return None;
+    }
     super::Jitted::compile(tape).map_err(fail).ok()
 }
 

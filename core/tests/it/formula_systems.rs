@@ -21,8 +21,9 @@ fn same_steps<S: BuiltIn<N, R>, const N: usize, const R: usize>() {
         let overrides: Vec<(String, f64)> =
             preset.params.iter().map(|(n, v)| (n.to_string(), *v)).collect();
         let spec = FormulaSpec::of(info).expect("a class built-in");
-        // Without the JIT both would be the interpreter: it runs once.
-        let natives: &[bool] = if cfg!(feature = "jit") { &[true, false] } else { &[false] };
+        // Without machine code both would be the interpreter: it runs once.
+        let natives: &[bool] =
+            if crate::common::machine_code() { &[true, false] } else { &[false] };
         for &native in natives {
             let limits = CustomLimits { native, ..CustomLimits::default() };
             let compiled = CustomSystem::compile(&spec, &overrides, &limits)

@@ -123,7 +123,7 @@ proptest! {
         // The machine code computes what the tape does, bit for bit (without the JIT, both
         // are the tape: the evaluations into uninitialized memory are still checked).
         let native = Function::new(tape.clone(), true);
-        prop_assert_eq!(native.is_native(), cfg!(feature = "jit"));
+        prop_assert_eq!(native.is_native(), crate::common::machine_code());
         let mut fast = vec![0.0; outputs.len()];
         native.eval(&p, &mut fast);
         // So do both into uninitialized memory, as the steps call them.
@@ -264,6 +264,10 @@ fn a_constant_powers_derivative_is_finite_at_zero() {
 #[cfg_attr(not(feature = "jit"), ignore = "no machine code without the `jit` feature")]
 fn machine_code_reads_variables_beyond_the_registers() {
     use nhlab_core::formula::{Function, Graph, Tape};
+    if !crate::common::machine_code() {
+        eprintln!("skipped: NHLAB_JIT=off");
+        return;
+    }
     let mut g = Graph::new();
     let vars: Vec<_> = (0..9).map(|i| g.var(i)).collect();
     let mut sum = g.num(0.0);
@@ -286,8 +290,8 @@ fn machine_code_reads_variables_beyond_the_registers() {
 }
 
 /// Where formulas run is told: as machine code with the `jit` feature (this host is one
-/// Cranelift supports), on the interpreter without it, with the reason; and a registered
-/// report is made once, at registration, exactly when they fall back.
+/// Cranelift supports) unless `NHLAB_JIT=off`, on the interpreter otherwise, with the reason;
+/// and a registered report is made once, at registration, exactly when they fall back.
 #[test]
 fn native_code_status_says_where_formulas_run() {
     use nhlab_core::formula::{native_code_status, on_interpreter_fallback};
@@ -295,10 +299,12 @@ fn native_code_status_says_where_formulas_run() {
     static REPORTS: AtomicUsize = AtomicUsize::new(0);
     let status = native_code_status();
     assert_eq!(status.compiled_in, cfg!(feature = "jit"));
-    assert_eq!(status.native(), cfg!(feature = "jit"), "{status:?}");
+    assert_eq!(status.native(), crate::common::machine_code(), "{status:?}");
     assert_eq!(status.why_not().is_some(), !status.native());
     if let Some(why) = status.why_not() {
         assert!(why.contains("interpreter"), "{why}");
+        let turned_off = cfg!(feature = "jit") && status.turned_off;
+        assert_eq!(why.contains("NHLAB_JIT=off"), turned_off, "{why}");
     }
     // The only registration in this process.
     on_interpreter_fallback(|why| {

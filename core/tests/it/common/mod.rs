@@ -15,6 +15,13 @@ macro_rules! for_each_system {
     };
 }
 
+/// Whether formulas run as machine code in this test process, as the build and the
+/// environment say: the `jit` feature, and no `NHLAB_JIT=off` (which `scripts/test` sets for
+/// its pass on the interpreter).
+pub fn machine_code() -> bool {
+    cfg!(feature = "jit") && std::env::var_os("NHLAB_JIT").is_none_or(|v| v != "off")
+}
+
 /// The size of a state (max norm of q, q̇ and λ, at least 1), to compare steps relative to.
 pub fn size<const N: usize, const R: usize>(st: &State<N, R>) -> f64 {
     st.q.amax().max(st.v.amax()).max(st.lambda.amax()).max(1.0)
