@@ -219,6 +219,22 @@ fn final_error(system: &str, preset: &str, t_end: f64, n: u32, m: &Method, exact
     distance(&run(&scene, m), exact)
 }
 
+/// The end at t_end of a built-in scene outside the paper's class: its exact solution where
+/// it has one, else the reference solve's.
+fn exact_end(system: &str, preset: &str, t_end: f64) -> End {
+    let mut req = request(system, preset);
+    req.t_end = Some(t_end);
+    let scene = Scene::resolve(&req).unwrap();
+    assert!(!scene.system.in_paper_class(), "{system}");
+    match scene.exact() {
+        Some((q, v)) => End { q, v, ..End::default() },
+        None => {
+            let r = scene.reference(1e-15).unwrap();
+            End { q: r.q, v: r.v, ..End::default() }
+        }
+    }
+}
+
 /// Each method's observed order on the literature's problems outside the paper's class:
 /// the chaotic oscillator and the sleigh against the reference, the vertical disk with
 /// unequal masses against its exact solution.
@@ -228,17 +244,7 @@ fn every_method_reaches_its_order_on_the_general_class() {
     for (system, preset) in
         [("chaplygin_sleigh", "inclined"), ("chaotic_oscillator", "n1"), ("vertical_disk", "heavy")]
     {
-        let mut req = request(system, preset);
-        req.t_end = Some(t_end);
-        let scene = Scene::resolve(&req).unwrap();
-        assert!(!scene.system.in_paper_class(), "{system}");
-        let exact = match scene.exact() {
-            Some((q, v)) => End { q, v, ..End::default() },
-            None => {
-                let r = scene.reference(1e-15).unwrap();
-                End { q: r.q, v: r.v, ..End::default() }
-            }
-        };
+        let exact = exact_end(system, preset, t_end);
         for m in general_methods() {
             let order = m.order();
             let ns: Vec<u32> = (0..6).map(|k| 64 << k).collect();
@@ -268,17 +274,7 @@ fn compositions_reach_their_order_on_the_general_class() {
     let t_end = 10.0;
     let mut failures = Vec::new();
     for (system, preset) in [("chaplygin_sleigh", "inclined"), ("vertical_disk", "heavy")] {
-        let mut req = request(system, preset);
-        req.t_end = Some(t_end);
-        let scene = Scene::resolve(&req).unwrap();
-        assert!(!scene.system.in_paper_class(), "{system}");
-        let exact = match scene.exact() {
-            Some((q, v)) => End { q, v, ..End::default() },
-            None => {
-                let r = scene.reference(1e-15).unwrap();
-                End { q: r.q, v: r.v, ..End::default() }
-            }
-        };
+        let exact = exact_end(system, preset, t_end);
         let bases = general_methods()
             .into_iter()
             .filter(|m| matches!(m.label().as_str(), "DLA^0.5" | "DLA^{0,1}" | "RATTLE"));
