@@ -147,7 +147,7 @@ impl<const S: usize, const N: usize, const R: usize, Sys: System<N, R>> Class<'_
     /// ζ_2 … ζ_{s−1} (one iteration where V_d is quadratic: the equations are then affine), then
     /// ζ_s explicitly; the terms are those at the solution.
     fn driver(&self, st: &State<N, R>, start: &Forces<N, R>) -> Result<Driver<S, N, R>, StepFailure> {
-        let (sys, t, h, cfg) = (self.sys, self.t, self.h, &self.spark.newton);
+        let (sys, t, h) = (self.sys, self.t, self.h);
         let (z0, w0, d1_0) = (st.q[N - 1], st.v[N - 1], start.gradient[N - 1]);
         let first = DriverTerms {
             constraint: start.constraint,
@@ -164,11 +164,30 @@ impl<const S: usize, const N: usize, const R: usize, Sys: System<N, R>> Class<'_
             iterations: 0,
         };
         out.zeta[0] = z0;
+        self.driver_newton(&mut out, (z0, w0))?;
+        let hh = h * h;
+        let mut last = z0 + h * t.c[S - 1] * w0;
+        for i in 1..S - 1 {
+            out.terms[i] = out.trackers[i].terms(sys, out.zeta[i]);
+        }
+        for j in 0..S - 1 {
+            last -= hh * t.aa[S - 1][j] * out.terms[j].potential_d1;
+        }
+        out.zeta[S - 1] = last;
+        out.terms[S - 1] = out.trackers[S - 1].terms(sys, last);
+        Ok(out)
+    }
+
+    /// Newton on the driver's stages ζ_2 … ζ_{s−1} from the guess in `out` (none for s = 2,
+    /// where ζ_2 is explicit), from ζ₀ and ζ̇₀; `out.terms` holds stage 1's V_d'.
+    fn driver_newton(&self, out: &mut Driver<S, N, R>, (z0, w0): (f64, f64)) -> Result<(), StepFailure> {
+        let (sys, t, h, cfg) = (self.sys, self.t, self.h, &self.spark.newton);
         let d = S - 2;
+        if d == 0 {
+            return Ok(());
+        }
         let hh = h * h;
         let mut previous = f64::INFINITY;
-        // No unknowns for s = 2: ζ_2 is explicit.
-        if d > 0 {
         loop {
             out.iterations += 1;
             for i in 1..S - 1 {
@@ -178,10 +197,11 @@ impl<const S: usize, const N: usize, const R: usize, Sys: System<N, R>> Class<'_
             for i in 1..S - 1 {
                 let mut r = out.zeta[i] - z0 - h * t.c[i] * w0;
                 for j in 0..S - 1 {
-                    r += hh * t.aa[i][j] * out.terms[j].potential_d1;
+                    let weight = hh * t.aa[i][j];
+                    r += weight * out.terms[j].potential_d1;
                     if j >= 1 {
                         let identity = f64::from(u8::from(i == j));
-                        jac[(i - 1) * d + j - 1] = identity + hh * t.aa[i][j] * out.terms[j].potential_d2;
+                        jac[(i - 1) * d + j - 1] = identity + weight * out.terms[j].potential_d2;
                     }
                 }
                 e[i - 1] = r;
@@ -199,29 +219,17 @@ impl<const S: usize, const N: usize, const R: usize, Sys: System<N, R>> Class<'_
             if !increment.is_finite() {
                 return counted(out.iterations, Err(StepFailure::NonFinite));
             }
-            let left = if previous.is_finite() { increment * increment / previous } else { increment * increment };
+            // One iteration solves the affine equations of a quadratic V_d.
+            let left = increment * increment / if previous.is_finite() { previous } else { 1.0 };
             if sys.quadratic_driver() || cfg.converged(increment, (left, increment), previous, 1.0 + size) {
-                break;
+                return Ok(());
             }
             if out.iterations >= cfg.max_iter {
-                return counted(
-                    out.iterations,
-                    Err(StepFailure::NewtonDiverged { iterations: out.iterations, increment }),
-                );
+                let diverged = StepFailure::NewtonDiverged { iterations: out.iterations, increment };
+                return counted(out.iterations, Err(diverged));
             }
             previous = increment;
         }
-        }
-        let mut last = z0 + h * t.c[S - 1] * w0;
-        for i in 1..S - 1 {
-            out.terms[i] = out.trackers[i].terms(sys, out.zeta[i]);
-        }
-        for j in 0..S - 1 {
-            last -= hh * t.aa[S - 1][j] * out.terms[j].potential_d1;
-        }
-        out.zeta[S - 1] = last;
-        out.terms[S - 1] = out.trackers[S - 1].terms(sys, last);
-        Ok(out)
     }
 
     /// The stages' kicks k_j (j < s) and velocities V_l for multipliers Z, through the
