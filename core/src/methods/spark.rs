@@ -15,7 +15,8 @@
 //! end condition is the M-orthogonal projection of q̇₁ onto the constraint at q₁, and Newton
 //! solves for the stage velocities and Λ_1 … Λ_{s−1} alone. Symmetric and reversible; the
 //! stage velocities lie off the constraint by O(h^{s−1}), the end point on it. On a class
-//! system it runs through the general form.
+//! system with a quadratic U of diagonal Hessian it takes the class step (`spark/class.rs`),
+//! elsewhere the general one (`spark/general.rs`).
 
 mod class;
 mod general;

@@ -94,8 +94,7 @@ impl<const S: usize, const N: usize, const R: usize, Sys: System<N, R>> Class<'_
         let start = mem.forces(&General(sys), &st.q);
         let mut driver = self.driver(st, &start)?;
         let iterations = driver.iterations;
-        let mut g0 = start.gradient;
-        g0[N - 1] = 0.0;
+        let g0 = start.gradient;
         let terms = &driver.terms;
         let (kick, v) = WORK
             .with(|cell| {
@@ -233,7 +232,8 @@ impl<const S: usize, const N: usize, const R: usize, Sys: System<N, R>> Class<'_
     }
 
     /// The stages' kicks k_j (j < s) and velocities V_l for multipliers Z, through the
-    /// responses of K's entries; `g0` is ∇U(q₀) (a zero driver component).
+    /// responses of K's entries; `g0` is ∇V(q₀), whose driver component no kick takes (a
+    /// kick's is its stage's own, −h V_d'(ζ_m)).
     fn motion(
         &self,
         st: &State<N, R>,
